@@ -1,0 +1,9 @@
+//! Command-line subcommands (synchronous; they call the library directly).
+
+pub mod analyze;
+pub mod bench;
+pub mod quasi_static;
+pub mod run;
+
+/// Error type of the CLI: a message for the user.
+pub type CliResult = Result<(), Box<dyn std::error::Error>>;

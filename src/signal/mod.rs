@@ -1,0 +1,1 @@
+//! Vibration analysis: characteristic frequencies, envelope spectra, DTCWT, identification.
