@@ -15,3 +15,6 @@ pub mod dtcwt;
 
 pub use dtcwt::{Dtcwt1d, DtcwtError, Pyramid};
 pub mod kurtosis;
+pub mod frequencies;
+pub mod hilbert;
+pub mod spectrum;
