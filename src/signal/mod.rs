@@ -29,3 +29,4 @@ pub use frequencies::{
     characteristic_frequencies, kinematic_preset, kinematic_preset_names, CharacteristicFrequencies,
     KinematicGeometry,
 };
+pub mod io;
