@@ -37,13 +37,13 @@ fn fundamental<'a>(ids: &'a [Identification], name: &str) -> &'a Identification 
 fn check(id: &str, name: &str) {
     let (r, m) = analyse(id);
     let expected = m["expected_fault_frequencies_hz"][name].as_f64().unwrap();
-    for (what, ids) in [
-        ("raw", &r.raw),
-        ("best component", &r.best_component.identifications),
-    ] {
+    for (what, ids) in [("raw", &r.raw), ("best component", &r.best_component.identifications)] {
         let i = fundamental(ids, name);
         let err = (i.identified_hz - expected) / expected * 100.0;
-        eprintln!("{id} {what}: {name} {:.3} Hz vs {expected:.3} ({err:+.3} %), {:.1} dB", i.identified_hz, i.prominence_db);
+        eprintln!(
+            "{id} {what}: {name} {:.3} Hz vs {expected:.3} ({err:+.3} %), {:.1} dB",
+            i.identified_hz, i.prominence_db
+        );
         assert!(i.detected, "{id} {what}: {name} not detected: {i:?}");
         assert!(err.abs() < TOL_PCT, "{id} {what}: {name} off by {err} %");
     }

@@ -33,7 +33,9 @@ fn cwru_preset_reproduces_the_manifest_frequencies() {
     // manifest, IR007 12k: 1797 rpm -> BPFI 162.18524, BPFO 107.36476, FTF 11.928486,
     // BSF 70.584662 Hz (from the CWRU multipliers, 4-5 significant figures -> 1e-4 relative)
     let f = characteristic_frequencies(&kinematic_preset("cwru6205").unwrap(), 1797.0 / 60.0);
-    for (got, want) in [(f.bpfi, 162.18524), (f.bpfo, 107.36476), (f.ftf, 11.928486), (f.bsf, 70.584662), (f.bsf2, 141.169325)] {
+    for (got, want) in
+        [(f.bpfi, 162.18524), (f.bpfo, 107.36476), (f.ftf, 11.928486), (f.bsf, 70.584662), (f.bsf2, 141.169325)]
+    {
         assert!(((got - want) / want).abs() < 1e-4, "{got} vs {want}");
     }
 }

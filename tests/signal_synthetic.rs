@@ -104,6 +104,16 @@ fn compound_fault_is_identified_from_the_first_two_components() {
     let r = run(x, 0.5, 3);
     eprintln!("level kurtosis {:?}", r.level_kurtosis);
     let (bpfo, bpfi) = truths();
-    assert!(found(&r, "BPFO", bpfo, true), "BPFO not identified in levels {}/{}", r.best_component.level, r.runner_up_component.level);
-    assert!(found(&r, "BPFI", bpfi, true), "BPFI not identified in levels {}/{}", r.best_component.level, r.runner_up_component.level);
+    assert!(
+        found(&r, "BPFO", bpfo, true),
+        "BPFO not identified in levels {}/{}",
+        r.best_component.level,
+        r.runner_up_component.level
+    );
+    assert!(
+        found(&r, "BPFI", bpfi, true),
+        "BPFI not identified in levels {}/{}",
+        r.best_component.level,
+        r.runner_up_component.level
+    );
 }

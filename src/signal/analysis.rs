@@ -170,10 +170,7 @@ pub fn analyze(
                 return Err(invalid("window", format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])")));
             }
             if t0 >= duration {
-                return Err(invalid(
-                    "window",
-                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
-                ));
+                return Err(invalid("window", format!("starts at {t0} s, after the end of the signal ({duration} s)")));
             }
             let i0 = (t0 * fs).round() as usize;
             let i1 = ((t1 * fs).round() as usize).min(signal.len());

@@ -134,7 +134,7 @@ pub fn local_median(s: &Spectrum, center_hz: f64) -> f64 {
 /// Largest peak within `[lo_hz, hi_hz]`, prominence measured against the local median around
 /// `center_hz`. `None` if the band lies outside the spectrum (beyond Nyquist or below DC).
 pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option<Peak> {
-    if s.len() < 3 || !(center_hz > 0.0) {
+    if s.len() < 3 || center_hz.is_nan() || center_hz <= 0.0 {
         return None;
     }
     let last_usable = s.len() - 2; // keep a neighbour for interpolation

@@ -103,9 +103,9 @@ pub fn parse_signal(bytes: &[u8], format: SignalFormat, source_name: &str) -> Re
 /// Read a signal file; `format` `None` = guess from the extension.
 pub fn read_signal(path: &Path, format: Option<SignalFormat>) -> Result<Vec<f64>, SignalReadError> {
     let name = path.display().to_string();
-    let format = format.or_else(|| SignalFormat::from_extension(path)).ok_or_else(|| {
-        err(&name, "cannot tell the format from the extension; pass --format f32le|csv|json")
-    })?;
+    let format = format
+        .or_else(|| SignalFormat::from_extension(path))
+        .ok_or_else(|| err(&name, "cannot tell the format from the extension; pass --format f32le|csv|json"))?;
     let bytes = std::fs::read(path).map_err(|e| err(&name, format!("cannot read: {e}")))?;
     parse_signal(&bytes, format, &name)
 }

@@ -26,6 +26,7 @@ impl Rng {
 /// Impulses at `t_k = phase + k / rate` (continuous times, so the rate is exact), each exciting a
 /// decaying resonance `amp_k exp(-2 pi zeta fn (t - t_k)) sin(2 pi fn_d (t - t_k))`, with
 /// `amp_k = 1 + am_depth cos(2 pi am_hz t_k)` (load-zone modulation; 0 for none).
+#[allow(clippy::too_many_arguments)]
 pub fn impulse_train(
     n: usize,
     fs: f64,
