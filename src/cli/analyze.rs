@@ -51,6 +51,9 @@ pub struct AnalyzeArgs {
     /// Wavelet filter set of levels >= 2.
     #[arg(long, default_value = "qshift_b")]
     pub qshift: String,
+    /// Report the identifications of every DTCWT level, not only the best two.
+    #[arg(long)]
+    pub all_levels: bool,
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
@@ -131,6 +134,7 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         biort: args.biort.clone(),
         qshift: args.qshift.clone(),
         detection_threshold_db: args.threshold_db,
+        report_all_levels: args.all_levels,
     };
     let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;
