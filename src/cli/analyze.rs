@@ -1,6 +1,7 @@
 //! `bearing-sim analyze FILE --fs HZ --rpm RPM --bearing PRESET|FILE [--levels N]`:
 //! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use bearing_sim::signal::io::{read_signal, SignalFormat};
@@ -142,6 +143,11 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         let f = SpectraFile { raw: &out.raw_spectrum, levels: &out.level_spectra };
         std::fs::write(path, serde_json::to_vec(&f)?).map_err(|e| format!("--spectra-out {}: {e}", path.display()))?;
     }
-    println!("{}", serde_json::to_string_pretty(&out.report)?);
-    Ok(())
+    let text = serde_json::to_string_pretty(&out.report)?;
+    let mut stdout = std::io::stdout().lock();
+    match writeln!(stdout, "{text}") {
+        // the reader went away (e.g. `| head`): not an error of ours
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => Ok(r?),
+    }
 }
