@@ -2,7 +2,7 @@
 //! uniform output sampling by Hermite interpolation, steady-window averages, progress
 //! and cancellation.
 
-use super::integrator::{hermite, hermite_derivative, AdaptiveRk4, FixedRk4, OdeSystem, StepStats};
+use super::integrator::{hermite, AdaptiveRk4, FixedRk4, OdeSystem, StepStats};
 use super::model::Model;
 use super::rhs::{rhs, Diagnostics};
 use super::state::{kinds, Kind};
@@ -325,7 +325,6 @@ impl Recorder {
             } else {
                 0.0
             };
-            let hs = if h > 0.0 { h } else { 1.0 };
             let interp = |k: usize| {
                 if h > 0.0 {
                     hermite(y0[k], f0[k], y1[k], f1[k], h, s)
@@ -333,15 +332,23 @@ impl Recorder {
                     y0[k]
                 }
             };
-            for (ax, comp) in self.accel.iter_mut().zip([o + 2, o + 3]) {
-                // acceleration: derivative of the interpolated velocity
-                let a = if h > 0.0 {
-                    hermite_derivative(y0[comp], f0[comp], y1[comp], f1[comp], hs, s)
-                } else {
-                    f0[comp]
-                };
-                ax.push(a);
+            // The state is interpolated (cubic Hermite, 4th order) and the right-hand side
+            // evaluated there: acceleration and contact loads are functions of the state,
+            // so they come out as accurate as the state, whatever the step placement.
+            // (Differentiating the interpolated velocity is only 2nd order and made the
+            // band RMS depend on where the steps fell.)
+            for k in 0..y0.len() {
+                self.scratch_y[k] = interp(k);
             }
+            rhs(
+                m,
+                ts,
+                &self.scratch_y,
+                &mut self.scratch_f,
+                Some(&mut self.diag),
+            );
+            self.accel[0].push(self.scratch_f[o + 2]);
+            self.accel[1].push(self.scratch_f[o + 3]);
             if let Some(v) = self.cage.as_mut() {
                 v.push(interp(c + 9));
             }
@@ -361,16 +368,6 @@ impl Recorder {
                 }
             }
             if let Some((ball, li, lo)) = self.loads.as_mut() {
-                for k in 0..y0.len() {
-                    self.scratch_y[k] = interp(k);
-                }
-                rhs(
-                    m,
-                    ts,
-                    &self.scratch_y,
-                    &mut self.scratch_f,
-                    Some(&mut self.diag),
-                );
                 li.push(self.diag.inner_load[*ball]);
                 lo.push(self.diag.outer_load[*ball]);
             }
