@@ -1,1 +1,20 @@
 //! Vibration analysis: characteristic frequencies, envelope spectra, DTCWT, identification.
+//!
+//! Plain synchronous code (no async, HTTP or SQL). The main entry point is
+//! [`analysis::analyze`]; the pieces are usable on their own:
+//!
+//! - [`frequencies`]: BPFO, BPFI, FTF, BSF from geometry and shaft speed (eq. 37);
+//! - [`hilbert`]: FFT analytic signal and envelope;
+//! - [`spectrum`]: envelope spectrum (Hann window, single-sided amplitude scaling);
+//! - [`dtcwt`]: Kingsbury's dual-tree complex wavelet transform and per-level components;
+//! - [`kurtosis`]: Pearson kurtosis;
+//! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
+//! - [`io`]: reading signals from raw f32le, CSV or JSON.
+
+pub mod dtcwt;
+
+pub use dtcwt::{Dtcwt1d, DtcwtError, Pyramid};
+pub mod kurtosis;
+pub mod frequencies;
+pub mod hilbert;
+pub mod spectrum;

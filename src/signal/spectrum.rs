@@ -1,0 +1,168 @@
+//! Envelope spectrum.
+//!
+//! Scaling and window (what every [`Spectrum`] produced here means):
+//!
+//! 1. the envelope `e = |analytic(x)|` is computed over the whole analysis record
+//!    (see [`super::hilbert`]), optionally from a band-passed signal;
+//! 2. its mean is removed (the DC line would otherwise dwarf everything);
+//! 3. it is multiplied by a periodic Hann window `w[i] = 0.5 (1 - cos(2 pi i / n))`;
+//! 4. `amplitude[k] = c_k |E[k]| / sum(w)`, `E` the real FFT (no zero padding), with `c_k = 2`
+//!    except `c_0 = 1` and, for even `n`, `c_{n/2} = 1`: single-sided amplitude corrected for
+//!    the window's coherent gain, so a sinusoidal envelope component `A cos(2 pi f t)` with `f`
+//!    on a bin reads `A` (in the unit of the signal); between bins the Hann scalloping loss is
+//!    at most 1.42 dB.
+//!
+//! Bin `k` is at `k * df` with `df = fs / n`.
+
+use std::sync::Arc;
+
+use realfft::{RealFftPlanner, RealToComplex};
+use rustfft::num_complex::Complex64;
+use serde::{Deserialize, Serialize};
+
+use super::hilbert::HilbertPlan;
+
+/// A single-sided amplitude spectrum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Spectrum {
+    /// Bin spacing, Hz: bin `k` is at `k * df`.
+    pub df: f64,
+    /// Amplitude per bin, in the unit of the analysed quantity (e.g. g or m/s^2): Hann window,
+    /// coherent-gain corrected, single-sided (module documentation).
+    pub amplitude: Vec<f64>,
+}
+
+impl Spectrum {
+    /// Frequency of bin `k`, Hz.
+    pub fn frequency(&self, k: usize) -> f64 {
+        k as f64 * self.df
+    }
+
+    /// Number of bins.
+    pub fn len(&self) -> usize {
+        self.amplitude.len()
+    }
+
+    /// True if there are no bins.
+    pub fn is_empty(&self) -> bool {
+        self.amplitude.is_empty()
+    }
+}
+
+/// Planned Hann amplitude spectrum for records of one length.
+pub struct SpectrumPlan {
+    n: usize,
+    r2c: Arc<dyn RealToComplex<f64>>,
+    window: Vec<f64>,
+    window_sum: f64,
+    input: Vec<f64>,
+    output: Vec<Complex64>,
+    scratch: Vec<Complex64>,
+}
+
+impl SpectrumPlan {
+    /// Plan for records of `n >= 2` samples.
+    pub fn new(n: usize) -> Self {
+        assert!(n >= 2, "a spectrum needs at least two samples");
+        let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        let window: Vec<f64> =
+            (0..n).map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())).collect();
+        let window_sum = window.iter().sum();
+        SpectrumPlan {
+            n,
+            input: r2c.make_input_vec(),
+            output: r2c.make_output_vec(),
+            scratch: r2c.make_scratch_vec(),
+            r2c,
+            window,
+            window_sum,
+        }
+    }
+
+    /// Amplitude spectrum of `x` (mean removed, Hann window, module-level scaling), `fs` in Hz.
+    pub fn amplitude(&mut self, x: &[f64], fs: f64) -> Spectrum {
+        let n = self.n;
+        assert_eq!(x.len(), n, "record length differs from the plan");
+        let mean = x.iter().sum::<f64>() / n as f64;
+        for ((d, v), w) in self.input.iter_mut().zip(x).zip(&self.window) {
+            *d = (v - mean) * w;
+        }
+        self.r2c
+            .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
+            .expect("buffer sizes come from the plan");
+        let amplitude = self
+            .output
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let single = if k == 0 || (n % 2 == 0 && k == n / 2) { 1.0 } else { 2.0 };
+                single * c.norm() / self.window_sum
+            })
+            .collect();
+        Spectrum { df: fs / n as f64, amplitude }
+    }
+}
+
+/// Envelope spectra of records of one length, transforms planned once and buffers reused.
+pub struct EnvelopeSpectrumPlan {
+    hilbert: HilbertPlan,
+    spectrum: SpectrumPlan,
+    envelope: Vec<f64>,
+}
+
+impl EnvelopeSpectrumPlan {
+    /// Plan for records of `n >= 2` samples.
+    pub fn new(n: usize) -> Self {
+        EnvelopeSpectrumPlan { hilbert: HilbertPlan::new(n), spectrum: SpectrumPlan::new(n), envelope: Vec::new() }
+    }
+
+    /// Envelope spectrum of `x` sampled at `fs` Hz, the envelope optionally taken from the
+    /// band `[f0, f1]` Hz only.
+    pub fn compute(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>) -> Spectrum {
+        self.hilbert.envelope_into(x, fs, band, &mut self.envelope);
+        self.spectrum.amplitude(&self.envelope, fs)
+    }
+
+    /// The envelope computed by the last [`Self::compute`].
+    pub fn last_envelope(&self) -> &[f64] {
+        &self.envelope
+    }
+}
+
+/// Envelope spectrum of `x` (plans a transform; use [`EnvelopeSpectrumPlan`] for many records).
+pub fn envelope_spectrum(x: &[f64], fs: f64, band: Option<[f64; 2]>) -> Spectrum {
+    EnvelopeSpectrumPlan::new(x.len()).compute(x, fs, band)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f64::consts::PI;
+
+    #[test]
+    fn on_bin_sinusoid_reads_its_amplitude() {
+        let (n, fs) = (1000, 1000.0);
+        let x: Vec<f64> = (0..n).map(|i| 0.7 * (2.0 * PI * 50.0 * i as f64 / fs + 0.3).cos() + 2.0).collect();
+        let s = SpectrumPlan::new(n).amplitude(&x, fs);
+        assert_eq!(s.df, 1.0);
+        // exact on a bin up to rounding: 1e-12; mean removed so DC ~ 0
+        assert!((s.amplitude[50] - 0.7).abs() < 1e-12, "{}", s.amplitude[50]);
+        assert!(s.amplitude[0] < 1e-12);
+    }
+
+    #[test]
+    fn envelope_spectrum_shows_the_modulation() {
+        // carrier 2 kHz, 30% modulation at 37 Hz: envelope 1 + 0.3 cos -> line of 0.3 at 37 Hz
+        let (n, fs) = (10_000, 10_000.0);
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                (1.0 + 0.3 * (2.0 * PI * 37.0 * t).cos()) * (2.0 * PI * 2000.0 * t).cos()
+            })
+            .collect();
+        let s = envelope_spectrum(&x, fs, None);
+        assert!((s.amplitude[37] - 0.3).abs() < 1e-9);
+        let others = s.amplitude.iter().enumerate().filter(|(k, _)| (*k as i64 - 37).abs() > 1).map(|(_, a)| *a);
+        assert!(others.fold(0.0, f64::max) < 1e-9);
+    }
+}
