@@ -15,7 +15,6 @@ use serde::{Deserialize, Serialize};
 
 /// The geometry the kinematic frequencies need.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct KinematicGeometry {
     /// Number of balls Z, -.
     pub ball_count: usize,

@@ -18,3 +18,14 @@ pub mod kurtosis;
 pub mod frequencies;
 pub mod hilbert;
 pub mod spectrum;
+pub mod identify;
+pub mod analysis;
+
+pub use analysis::{
+    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport, Identification,
+    Sideband, Spectrum,
+};
+pub use frequencies::{
+    characteristic_frequencies, kinematic_preset, kinematic_preset_names, CharacteristicFrequencies,
+    KinematicGeometry,
+};
