@@ -13,6 +13,7 @@ pub struct Config {
     pub database_url: String,
 
     /// Jobs run at the same time (blocking engine threads); default: available cores.
+    /// 0 runs the API alone (jobs wait for a worker process on the same database).
     #[arg(long, env = "BEARING_SIM_WORKERS")]
     pub workers: Option<usize>,
 
@@ -56,7 +57,6 @@ pub struct Config {
 impl Config {
     pub fn worker_count(&self) -> usize {
         self.workers
-            .filter(|&n| n > 0)
             .unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1))
     }
 

@@ -26,7 +26,7 @@ pub fn main(args: ServeArgs) -> crate::cli::CliResult {
         .enable_all()
         // Engine runs are bounded by the worker pool; the margin serves direct requests
         // (also bounded, by a semaphore) and tokio's own blocking work.
-        .max_blocking_threads(2 * workers + 4)
+        .max_blocking_threads(2 * workers.max(1) + 4)
         .build()?;
     runtime.block_on(run(config))
 }
@@ -57,7 +57,7 @@ async fn run(config: Config) -> crate::cli::CliResult {
         metrics,
         wake,
         ready: ready.clone(),
-        direct: Arc::new(Semaphore::new(workers)),
+        direct: Arc::new(Semaphore::new(workers.max(1))),
     };
 
     let listener = tokio::net::TcpListener::bind(config.bind).await?;

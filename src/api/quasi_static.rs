@@ -15,7 +15,7 @@ pub async fn solve(State(state): State<AppState>, headers: HeaderMap, body: Byte
     require_json(&headers)?;
     let mut body = as_object(parse_value(&body)?)?;
     let rpm: Option<f64> = match body.remove("shaft_rpm") {
-        None | Some(serde_json::Value::Null) => None,
+        None => None,
         Some(v) => Some(from_value(v, "shaft_rpm")?),
     };
     let scene = resolve_scene(&mut body, &["shaft_rpm"])?;

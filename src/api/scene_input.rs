@@ -54,7 +54,7 @@ fn preset_value(preset: Value, case: Option<Value>, overrides: Option<Value>, er
         return None;
     };
     let case = match case {
-        None | Some(Value::Null) => Some(FaultCase::None),
+        None => Some(FaultCase::None),
         Some(Value::String(c)) => match c.parse::<FaultCase>() {
             Ok(c) => Some(c),
             Err(m) => {
@@ -72,7 +72,7 @@ fn preset_value(preset: Value, case: Option<Value>, overrides: Option<Value>, er
         errors.push(FieldProblem { path: "preset".into(), message: format!("unknown preset '{name}'; simulation presets: {names}") });
     }
     match &overrides {
-        None | Some(Value::Null) | Some(Value::Object(_)) => {}
+        None | Some(Value::Object(_)) => {}
         Some(other) => errors.push(FieldProblem { path: "overrides".into(), message: format!("must be an object (a JSON merge patch), got {}", kind_of(other)) }),
     }
     if case.is_none() {
