@@ -16,10 +16,18 @@ use tokio::sync::{Notify, Semaphore};
 pub struct ServeArgs {
     #[command(flatten)]
     pub config: Config,
+
+    /// Do not serve: check that the server at --bind answers GET /healthz, exit 0 if so.
+    /// Used as the container HEALTHCHECK, which has no shell or curl.
+    #[arg(long)]
+    pub probe: bool,
 }
 
 pub fn main(args: ServeArgs) -> crate::cli::CliResult {
     let config = args.config;
+    if args.probe {
+        return probe(config.bind);
+    }
     init_logging(&config.log_format);
     let workers = config.worker_count();
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -90,6 +98,26 @@ async fn run(config: Config) -> crate::cli::CliResult {
     }
     tracing::info!("stopped");
     Ok(())
+}
+
+fn probe(bind: std::net::SocketAddr) -> crate::cli::CliResult {
+    use std::io::Read;
+    let mut addr = bind;
+    if addr.ip().is_unspecified() {
+        addr.set_ip(if addr.is_ipv4() { std::net::Ipv4Addr::LOCALHOST.into() } else { std::net::Ipv6Addr::LOCALHOST.into() });
+    }
+    let timeout = Duration::from_secs(3);
+    let mut stream = std::net::TcpStream::connect_timeout(&addr, timeout)?;
+    stream.set_read_timeout(Some(timeout))?;
+    stream.write_all(format!("GET /healthz HTTP/1.0\r\nHost: {addr}\r\n\r\n").as_bytes())?;
+    let mut reply = String::new();
+    stream.read_to_string(&mut reply)?;
+    let status_line = reply.lines().next().unwrap_or("");
+    if status_line.split_whitespace().nth(1) == Some("200") {
+        Ok(())
+    } else {
+        Err(format!("health check failed: {status_line}").into())
+    }
 }
 
 async fn shutdown_signal() {
