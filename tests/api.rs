@@ -123,7 +123,7 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     assert_problem(st, &h, &body, 422);
     let r = c.post(s.url("/v1/analyses?sample_rate=1000&preset=cwru6205&shaft_hz=20")).header("content-type", "application/octet-stream").body(vec![0u8; 7]).send().await.unwrap();
     let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 400);
+    assert_problem(st, &h, &r.json().await.unwrap(), 422);
 
     // quasi-static: validation uses the same paths
     let (st, h, body) = post_json(&c, &s.url("/v1/quasi-static"), &json!({"preset": "h7005c", "shaft_rpm": -5})).await;

@@ -94,16 +94,16 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
 
 fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
     if body.len() % 4 != 0 {
-        return Err(Problem::bad_request(format!("raw body length {} is not a multiple of 4 (f32 little-endian samples)", body.len())));
+        return Err(Problem::field("$", format!("raw body length {} is not a multiple of 4 (f32 little-endian samples)", body.len())));
     }
     let samples = crate::store::blob::decode_f32le(body);
-    let sample_rate = q.f64("sample_rate")?.ok_or_else(|| Problem::bad_request("query parameter 'sample_rate' (Hz) is required"))?;
+    let sample_rate = q.f64("sample_rate")?.ok_or_else(|| Problem::field("sample_rate", "required with a raw body: the query parameter sample_rate (Hz)"))?;
     let explicit = match (q.get::<usize>("ball_count")?, q.f64("ball_diameter")?, q.f64("pitch_diameter")?, q.f64("contact_angle")?) {
         (None, None, None, None) => None,
         (Some(ball_count), Some(ball_diameter), Some(pitch_diameter), Some(contact_angle)) => {
             Some(KinematicGeometry { ball_count, ball_diameter, pitch_diameter, contact_angle })
         }
-        _ => return Err(Problem::bad_request("give all of ball_count, ball_diameter, pitch_diameter and contact_angle, or a preset")),
+        _ => return Err(Problem::field("ball_count", "give all of ball_count, ball_diameter, pitch_diameter and contact_angle, or a preset")),
     };
     let geometry = geometry(q.str("preset"), explicit, "preset")?;
     let shaft_hz = shaft_hz(q.f64("shaft_hz")?, q.f64("shaft_rpm")?)?;
@@ -120,12 +120,12 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     match (q.f64("window_from")?, q.f64("window_to")?) {
         (None, None) => {}
         (Some(a), Some(b)) => options.window = Some([a, b]),
-        _ => return Err(Problem::bad_request("give both window_from and window_to (s)")),
+        _ => return Err(Problem::field("window_from", "give both window_from and window_to (s)")),
     }
     match (q.f64("band_low")?, q.f64("band_high")?) {
         (None, None) => {}
         (Some(a), Some(b)) => options.band = Some([a, b]),
-        _ => return Err(Problem::bad_request("give both band_low and band_high (Hz)")),
+        _ => return Err(Problem::field("band_low", "give both band_low and band_high (Hz)")),
     }
     if let Some(b) = q.str("biort") {
         options.biort = b.to_string();

@@ -142,8 +142,10 @@ async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Respons
 
 async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
-    let which = q.str("kind").unwrap_or("raw").to_string();
     let level = q.get::<usize>("level")?;
+    // `level` alone implies kind=level; with another kind it is ignored.
+    let which = q.str("kind").unwrap_or(if level.is_some() { "level" } else { "raw" }).to_string();
+    let level = if which == "level" { level } else { None };
     let fmax = q.f64("fmax")?;
     if let Some(f) = fmax {
         if f <= 0.0 {
@@ -155,9 +157,6 @@ async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) 
     }
     if which == "level" && level.is_none() {
         return Err(Problem::bad_request("kind=level needs the query parameter 'level' (1 = finest)"));
-    }
-    if which != "level" && level.is_some() {
-        return Err(Problem::bad_request("query parameter 'level' only applies to kind=level"));
     }
     let job = succeeded(&state, kind, &id).await?;
     let analysis = job.result.as_ref().and_then(|r| r.get("analysis")).filter(|a| !a.is_null()).cloned();

@@ -35,11 +35,6 @@ pub async fn signals(State(state): State<AppState>, Path(id): Path<String>, RawQ
     if !(1..=MAX_POINTS).contains(&max_points) {
         return Err(Problem::bad_request(format!("query parameter 'max_points' must be in 1..={MAX_POINTS}")));
     }
-    if let (Some(a), Some(b)) = (from, to) {
-        if b < a {
-            return Err(Problem::bad_request("query parameter 'to' must not be before 'from'"));
-        }
-    }
     succeeded(&state, JobKind::Simulation, &id).await?;
     let Some(a) = state.store.get_artifact(&id, &format!("channel:{channel}")).await? else {
         return Err(Problem::not_found(format!("simulation {id} has no channel '{channel}'")));
