@@ -11,6 +11,8 @@
 //! - [`simulation`]: one call from a scene to a result.
 //! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification.
 
+pub mod dynamics;
+pub mod physics;
 pub mod quasi_static;
 pub mod scene;
 pub mod simulation;

@@ -24,6 +24,8 @@ enum Command {
     Run(cli::run::RunArgs),
     /// Print the quasi-static (Jones-Harris) solution of a scene as JSON.
     QuasiStatic(cli::quasi_static::QuasiStaticArgs),
+    /// Print a preset scene as JSON (a starting point for your own scene files).
+    Scene(cli::scene_cmd::SceneArgs),
     /// Analyse a measured or simulated vibration signal.
     Analyze(cli::analyze::AnalyzeArgs),
     /// Run the HTTP service.
@@ -37,6 +39,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(a) => cli::run::main(a),
         Command::QuasiStatic(a) => cli::quasi_static::main(a),
+        Command::Scene(a) => cli::scene_cmd::main(a),
         Command::Analyze(a) => cli::analyze::main(a),
         Command::Serve(a) => serve::main(a),
         Command::Bench(a) => cli::bench::main(a),

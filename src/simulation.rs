@@ -86,7 +86,11 @@ pub struct Summary {
     pub cage_slip: f64,
     /// Mean force the balls exert on the inner ring (X, Y, Z), N; balances the applied load.
     pub mean_inner_ring_reaction: [f64; 3],
+    /// Per ball, averaged over the window (each ball orbits through the whole bearing).
     pub balls: Vec<BallSummary>,
+    /// Load distribution: averages over whichever ball sits within half a ball spacing of
+    /// azimuth `2 pi k / Z` (k = 0..Z), comparable with the quasi-static ball k.
+    pub load_zone: Vec<BallSummary>,
 }
 
 /// One uniformly sampled channel.
@@ -125,6 +129,7 @@ pub struct SimResult {
 /// Run a scene to completion (or cancellation / failure).
 pub fn simulate(scene: &Scene, ctl: RunControl<'_>) -> Result<SimResult, SimError> {
     scene.validate()?;
-    let _ = ctl;
-    Err(SimError::Numerical { time: 0.0, message: "engine not yet implemented".into() })
+    let model = crate::dynamics::model::Model::new(scene);
+    let qs = crate::quasi_static::solve_model(&model, model.shaft_speed(0.0))?;
+    crate::dynamics::run::integrate(&model, scene, &qs, ctl)
 }

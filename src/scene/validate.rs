@@ -148,6 +148,10 @@ impl Scene {
         c.pos("lubricant.critical_film_ball_cage", l.critical_film_ball_cage, "m");
         c.pos("lubricant.critical_film_cage_land", l.critical_film_cage_land, "m");
         c.nonneg("lubricant.cage_friction", l.cage_friction, "-");
+        if c.nonneg("lubricant.contact_damping_ratio", l.contact_damping_ratio, "-") && l.contact_damping_ratio > 1.0 {
+            c.push("lubricant.contact_damping_ratio", "must be <= 1");
+        }
+        c.nonneg("operating.shaft_mass", o_shaft_mass(self), "kg");
         match l.traction {
             Traction::Abcd { a, b, c: cc, d } => {
                 let ok = c.finite("lubricant.traction.a", a)
@@ -253,6 +257,10 @@ impl Scene {
             Err(ValidationErrors(c.errs))
         }
     }
+}
+
+fn o_shaft_mass(s: &Scene) -> f64 {
+    s.operating.shaft_mass
 }
 
 /// Compatibility checks that need every dimension to be valid on its own.

@@ -1,0 +1,114 @@
+//! Ball-cage pocket interaction (eqs. 19-22).
+//!
+//! Above the critical film the lubricant in the pocket acts as a squeeze film (Reynolds'
+//! sphere-plane result `6 pi eta R^2 (-dh/dt) / h`, no tension: a separating ball feels
+//! no suction); below it the contact is Hertzian with penetration `critical - h` plus
+//! Coulomb friction. The squeeze term keeps acting with `h` held at the critical film, so
+//! the force is continuous across the switch.
+
+use super::hertz::HertzContact;
+use nalgebra::{Matrix3, Vector3};
+use std::f64::consts::PI;
+
+/// Constant data of the ball-pocket pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PocketParams {
+    /// Radial clearance `(d_p - D) / 2`, m (eq. 21).
+    pub clearance: f64,
+    /// Radius of the circle of pocket centres in the cage frame, m.
+    pub pocket_radius: f64,
+    pub hertz: HertzContact,
+    /// Critical film, m.
+    pub critical_film: f64,
+    /// Lubricant dynamic viscosity, Pa s.
+    pub viscosity: f64,
+    /// Ball radius, m.
+    pub ball_radius: f64,
+    /// Coulomb friction coefficient in Hertzian contact, -.
+    pub friction: f64,
+}
+
+/// Motion of the cage.
+#[derive(Debug, Clone, Copy)]
+pub struct CageMotion {
+    /// Centre position, m.
+    pub centre: Vector3<f64>,
+    /// Centre velocity, m/s.
+    pub velocity: Vector3<f64>,
+    /// Body-to-inertial rotation for tilt.
+    pub rot: Matrix3<f64>,
+    /// Spin angle about the axis, rad.
+    pub spin_angle: f64,
+    /// Angular velocity, rad/s.
+    pub omega: Vector3<f64>,
+}
+
+/// Result of one ball-pocket interaction (all inertial).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PocketResult {
+    /// Film (clearance left) between ball and pocket wall, m (eq. 21).
+    pub film: f64,
+    /// Normal force, N.
+    pub normal: f64,
+    pub force_on_ball: Vector3<f64>,
+    pub moment_on_ball: Vector3<f64>,
+    pub force_on_cage: Vector3<f64>,
+    /// About the cage centre, N m.
+    pub moment_on_cage: Vector3<f64>,
+}
+
+/// Slip speed below which Coulomb friction is scaled down linearly, m/s.
+const FRICTION_REGULARIZATION: f64 = 1e-2;
+
+/// Interaction of a ball with pocket `k` at body angle `pocket_angle`.
+#[inline]
+pub fn pocket_contact(p: &PocketParams, cage: &CageMotion, pocket_angle: f64, ball_centre: &Vector3<f64>, ball_velocity: &Vector3<f64>, ball_omega: &Vector3<f64>) -> PocketResult {
+    let th = cage.spin_angle + pocket_angle;
+    let (s, c) = th.sin_cos();
+    let axis = cage.rot * Vector3::new(0.0, -s, c);
+    let centre = cage.centre + p.pocket_radius * axis;
+    // eq. 19: ball relative to the pocket; only the part across the pocket axis matters
+    let w = ball_centre - centre;
+    let w_perp = w - w.dot(&axis) * axis;
+    let dist = w_perp.norm();
+    // eq. 21
+    let film = p.clearance - dist;
+    let mut out = PocketResult { film, ..Default::default() };
+    if dist < 1e-12 {
+        return out;
+    }
+    let n = w_perp / dist;
+    let r_contact = p.ball_radius * n;
+    let point = ball_centre + r_contact;
+    let v_cage_pt = cage.velocity + cage.omega.cross(&(point - cage.centre));
+    let v_ball_pt = ball_velocity + ball_omega.cross(&r_contact);
+    // film shrinks when the ball centre moves away from the pocket axis
+    let dfilm = -n.dot(&(ball_velocity - v_cage_pt));
+    let h_eff = film.max(p.critical_film);
+    let squeeze = (6.0 * PI * p.viscosity * p.ball_radius * p.ball_radius * (-dfilm) / h_eff).max(0.0);
+    let pen = p.critical_film - film;
+    let hertz = if pen > 0.0 { p.hertz.k * pen * pen.sqrt() } else { 0.0 };
+    let normal = squeeze + hertz;
+    if normal == 0.0 {
+        return out;
+    }
+    let mut f_ball = -normal * n;
+    let mut m_ball = Vector3::zeros();
+    if hertz > 0.0 && p.friction > 0.0 {
+        let mut v = v_ball_pt - v_cage_pt;
+        v -= v.dot(&n) * n;
+        let sp = v.norm();
+        if sp > 0.0 {
+            let scale = p.friction * hertz * (sp / FRICTION_REGULARIZATION).min(1.0) / sp;
+            let fr = -scale * v;
+            f_ball += fr;
+            m_ball = r_contact.cross(&fr);
+        }
+    }
+    out.normal = normal;
+    out.force_on_ball = f_ball;
+    out.moment_on_ball = m_ball;
+    out.force_on_cage = -f_ball;
+    out.moment_on_cage = (point - cage.centre).cross(&(-f_ball));
+    out
+}

@@ -1,0 +1,93 @@
+//! Coordinate frames of section 2.1.
+//!
+//! Inertial frame: X is the bearing axis, Y and Z radial. A ball's azimuth frame has
+//! the right-handed basis `(e_x, e_r, e_t)`: axial, radial (outward) and tangential (the
+//! direction of increasing azimuth), with the azimuth measured from +Z towards -Y (eq. 3).
+
+use nalgebra::{Matrix3, Vector3};
+
+/// Cardan transformation matrix `A(eta, xi, lambda)` of eq. 1 (maps inertial to body
+/// components for rotations eta about X, xi about Y, lambda about Z).
+pub fn cardan(eta: f64, xi: f64, lambda: f64) -> Matrix3<f64> {
+    let (se, ce) = eta.sin_cos();
+    let (sx, cx) = xi.sin_cos();
+    let (sl, cl) = lambda.sin_cos();
+    Matrix3::new(
+        cx * cl,
+        ce * sl + se * sx * cl,
+        se * sl - ce * sx * cl,
+        -cx * sl,
+        ce * cl - se * sx * sl,
+        se * cl + ce * sx * sl,
+        sx,
+        -se * cx,
+        ce * cx,
+    )
+}
+
+/// Radial unit vector at azimuth `theta`: `(0, -sin, cos)`.
+#[inline]
+pub fn e_r(theta: f64) -> Vector3<f64> {
+    let (s, c) = theta.sin_cos();
+    Vector3::new(0.0, -s, c)
+}
+
+/// Tangential unit vector at azimuth `theta` (direction of increasing theta): `(0, -cos, -sin)`.
+#[inline]
+pub fn e_t(theta: f64) -> Vector3<f64> {
+    let (s, c) = theta.sin_cos();
+    Vector3::new(0.0, -c, -s)
+}
+
+/// Azimuth of a point, eq. 3: `atan2(-y, z)`.
+#[inline]
+pub fn azimuth(p: &Vector3<f64>) -> f64 {
+    (-p.y).atan2(p.z)
+}
+
+/// Components of an inertial vector in the azimuth frame `[x, r, t]`.
+#[inline]
+pub fn to_azimuth(v: &Vector3<f64>, theta: f64) -> Vector3<f64> {
+    let (s, c) = theta.sin_cos();
+    Vector3::new(v.x, -s * v.y + c * v.z, -c * v.y - s * v.z)
+}
+
+/// Inertial vector from azimuth-frame components `[x, r, t]`.
+#[inline]
+pub fn from_azimuth(a: &Vector3<f64>, theta: f64) -> Vector3<f64> {
+    let (s, c) = theta.sin_cos();
+    Vector3::new(a.x, -s * a.y - c * a.z, c * a.y - s * a.z)
+}
+
+/// Small-angle rotation of a ring tilted by `beta_y` about Y and `beta_z` about Z
+/// (body-to-inertial), from the Cardan matrix with eta = 0.
+pub fn tilt_matrix(beta_y: f64, beta_z: f64) -> Matrix3<f64> {
+    cardan(0.0, beta_y, beta_z).transpose()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cardan_is_a_rotation() {
+        let a = cardan(0.3, -0.2, 1.1);
+        let i = a * a.transpose();
+        assert!((i - Matrix3::identity()).norm() < 1e-14);
+        assert!((a.determinant() - 1.0).abs() < 1e-14);
+        // pure rotation about X by eta maps Y to (0, cos, -sin)
+        let r = cardan(0.4, 0.0, 0.0) * Vector3::y();
+        assert!((r - Vector3::new(0.0, 0.4f64.cos(), -(0.4f64.sin()))).norm() < 1e-15);
+    }
+
+    #[test]
+    fn azimuth_frame_is_right_handed_and_round_trips() {
+        let th = 0.7;
+        let (x, r, t) = (Vector3::x(), e_r(th), e_t(th));
+        assert!((x.cross(&r) - t).norm() < 1e-15);
+        assert!((r.cross(&t) - x).norm() < 1e-15);
+        let v = Vector3::new(0.3, -1.2, 2.5);
+        assert!((from_azimuth(&to_azimuth(&v, th), th) - v).norm() < 1e-14);
+        assert!((azimuth(&(e_r(th) * 3.0)) - th).abs() < 1e-14);
+    }
+}

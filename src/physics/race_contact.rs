@@ -1,0 +1,201 @@
+//! Ball-race contact: geometry (eqs. 2-7), Hertz load (eq. 8), EHL traction by strips
+//! over the contact ellipse (eqs. 9-18) and the defect modification (eqs. 34-36).
+
+use super::defect::{race_defects_effect, RaceDefect};
+use super::hertz::HertzContact;
+use super::traction::TractionCurve;
+use nalgebra::{Matrix3, Vector3};
+
+/// Constant data of one raceway.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Race {
+    /// True for the inner race (ball outside the groove's curvature centre circle).
+    pub inner: bool,
+    /// Radius of the circle of groove curvature centres in the ring frame, m.
+    pub centre_radius: f64,
+    /// Axial position of that circle in the ring frame, m.
+    pub centre_axial: f64,
+    /// Groove radius minus ball radius, `(f - 0.5) D`, m (eq. 7).
+    pub free_distance: f64,
+    /// Hertz constants of this ball-race pair.
+    pub hertz: HertzContact,
+    /// Radius of the deformed contact surface across the groove, `2 f D / (2 f + 1)`, m (eq. 9).
+    pub r_prime: f64,
+    /// Ball radius, m.
+    pub ball_radius: f64,
+    /// Radius of the contact path (for arc lengths along the race), m.
+    pub path_radius: f64,
+    /// Relative radius of ball and race in the rolling direction, m (defect drop).
+    pub rx: f64,
+    /// Defects on this race, in its body frame.
+    pub defects: Vec<RaceDefect>,
+}
+
+/// Motion of a ring.
+#[derive(Debug, Clone, Copy)]
+pub struct RingMotion {
+    /// Centre position, m.
+    pub centre: Vector3<f64>,
+    /// Body-to-inertial rotation for tilt (spin excluded: the race is axisymmetric).
+    pub rot: Matrix3<f64>,
+    /// Centre velocity, m/s.
+    pub velocity: Vector3<f64>,
+    /// Spin about the ring axis, rad/s.
+    pub spin: f64,
+    /// Spin angle (for defect positions), rad.
+    pub spin_angle: f64,
+}
+
+/// Motion of a ball.
+#[derive(Debug, Clone, Copy)]
+pub struct BallMotion {
+    /// Centre position, m.
+    pub centre: Vector3<f64>,
+    /// Centre velocity, m/s.
+    pub velocity: Vector3<f64>,
+    /// Angular velocity, rad/s.
+    pub omega: Vector3<f64>,
+}
+
+/// Contact parameters shared by all race contacts.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactParams {
+    pub traction: TractionCurve,
+    /// Strips across the major axis (eq. 13 uses m per semi-axis; this is the total).
+    pub strips: usize,
+    /// Normal contact damping ratio, -.
+    pub damping_ratio: f64,
+    /// Ball mass, kg (for the damping coefficient).
+    pub ball_mass: f64,
+}
+
+/// Forces and geometry of one ball-race contact, all inertial.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ContactResult {
+    /// Elastic deformation after any defect drop, m (<= 0: no contact).
+    pub delta: f64,
+    /// Normal load, N.
+    pub load: f64,
+    /// Contact angle, rad (eq. 5).
+    pub alpha: f64,
+    /// Ball azimuth in the ring's tilt frame, rad (eq. 3).
+    pub azimuth: f64,
+    /// Defect drop applied, m.
+    pub defect_drop: f64,
+    /// Load direction tilt at a defect edge, rad.
+    pub psi: f64,
+    /// Force on the ball, N.
+    pub force_on_ball: Vector3<f64>,
+    /// Moment on the ball about its centre, N m.
+    pub moment_on_ball: Vector3<f64>,
+    /// Force on the ring, N.
+    pub force_on_ring: Vector3<f64>,
+    /// Moment on the ring about its centre, N m.
+    pub moment_on_ring: Vector3<f64>,
+}
+
+/// Geometry only (eqs. 2-7): deformation, contact angle, azimuth and the unit normal
+/// from the curvature centre through the ball centre (inertial).
+#[inline]
+pub fn contact_geometry(race: &Race, ring: &RingMotion, ball_centre: &Vector3<f64>) -> (f64, f64, f64, Vector3<f64>, Vector3<f64>) {
+    // eq. 2: ball relative to the ring, in ring (tilt) coordinates
+    let p = ring.rot.transpose() * (ball_centre - ring.centre);
+    // eq. 3
+    let theta = (-p.y).atan2(p.z);
+    let rho = (p.y * p.y + p.z * p.z).sqrt();
+    let (s, c) = theta.sin_cos();
+    // eq. 4: from the curvature centre to the ball centre, in the azimuth plane
+    let dx = p.x - race.centre_axial;
+    let dr = rho - race.centre_radius;
+    let dist = (dx * dx + dr * dr).sqrt();
+    // eq. 7
+    let delta = dist - race.free_distance;
+    // eq. 5: the normal points from ball centre to contact; for the outer race that is
+    // (sin a, cos a) in (axial, radial), for the inner race -(sin a, cos a).
+    let alpha = if race.inner { (-dx).atan2(-dr) } else { dx.atan2(dr) };
+    let u_body = Vector3::new(dx / dist, -s * dr / dist, c * dr / dist);
+    let t_body = Vector3::new(0.0, -c, -s);
+    (delta, alpha, theta, ring.rot * u_body, ring.rot * t_body)
+}
+
+/// Full contact: Hertz load with damping, defect modification, traction by strips.
+pub fn race_contact(race: &Race, ring: &RingMotion, ball: &BallMotion, p: &ContactParams) -> ContactResult {
+    let (delta0, alpha, theta, u, t) = contact_geometry(race, ring, &ball.centre);
+    let mut out = ContactResult { alpha, azimuth: theta, delta: delta0, ..Default::default() };
+    if delta0 <= 0.0 {
+        return out;
+    }
+    let eff = if race.defects.is_empty() {
+        Default::default()
+    } else {
+        race_defects_effect(&race.defects, theta - ring.spin_angle, race.path_radius, race.rx, race.ball_radius)
+    };
+    let delta = delta0 - eff.drop;
+    out.delta = delta;
+    out.defect_drop = eff.drop;
+    out.psi = eff.psi;
+    if delta <= 0.0 {
+        return out;
+    }
+    let k = race.hertz.k;
+    let sq = delta.sqrt();
+    // normal approach rate: ball centre moving away from the curvature centre compresses
+    let ddelta = u.dot(&(ball.velocity - ring.velocity));
+    let c_damp = 2.0 * p.damping_ratio * (1.5 * k * sq * p.ball_mass).sqrt();
+    let q = (k * delta * sq + c_damp * ddelta).max(0.0);
+    out.load = q;
+    if q == 0.0 {
+        return out;
+    }
+    // Load direction: normal, turned by psi towards +t at a defect edge (eq. 36).
+    let (sp, cp) = eff.psi.sin_cos();
+    let normal_force_on_ball = -q * cp * u + q * sp * t;
+
+    // Traction strips across the major axis (eqs. 9-13); s_hat spans the axial-radial plane.
+    let s_hat = u.cross(&t);
+    let a = race.hertz.a_coef * q.cbrt();
+    let rb = race.ball_radius;
+    let a_eff = a.min(0.999 * rb);
+    let rp = race.r_prime;
+    let base = -(rp * rp - a_eff * a_eff).sqrt() + (rb * rb - a_eff * a_eff).sqrt();
+    let n = p.strips.max(1);
+    let dy = 2.0 * a_eff / n as f64;
+    // weights of the semi-elliptical... eq. 13's parabolic strip loads, normalized to sum to q
+    let mut wsum = 0.0;
+    for i in 0..n {
+        let y = -a_eff + (i as f64 + 0.5) * dy;
+        wsum += 1.0 - (y * y) / (a_eff * a_eff);
+    }
+    let ring_axis = ring.rot * Vector3::x();
+    let mut f_tr = Vector3::zeros();
+    let mut m_ball = Vector3::zeros();
+    let mut m_ring = Vector3::zeros();
+    let ball_to_ring = ball.centre - ring.centre;
+    for i in 0..n {
+        let y = -a_eff + (i as f64 + 0.5) * dy;
+        let w = (1.0 - (y * y) / (a_eff * a_eff)) / wsum;
+        // eq. 9: strip position relative to the ball centre
+        let h = (rp * rp - y * y).sqrt() + base;
+        let r_pb = h * u + y * s_hat;
+        // eqs. 11-12: slip of the ring relative to the ball at the strip
+        let v_ball = ball.velocity + ball.omega.cross(&r_pb);
+        let r_pr = ball_to_ring + r_pb;
+        let v_ring = ring.velocity + ring.spin * ring_axis.cross(&r_pr);
+        let mut v = v_ring - v_ball;
+        v -= v.dot(&u) * u;
+        let speed = v.norm();
+        // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
+        let tr = (q * w * p.traction.mu_over_s(speed)) * v;
+        f_tr += tr;
+        m_ball += r_pb.cross(&tr);
+        m_ring -= r_pr.cross(&tr);
+    }
+    // eq. 18
+    let f_ball = normal_force_on_ball + f_tr;
+    out.force_on_ball = f_ball;
+    out.moment_on_ball = m_ball;
+    out.force_on_ring = -f_ball;
+    let r_contact = ball_to_ring + rb * u;
+    out.moment_on_ring = m_ring + r_contact.cross(&(-normal_force_on_ball));
+    out
+}
