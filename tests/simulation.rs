@@ -11,7 +11,7 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
     let (_dir, db) = temp_db();
     let s = Server::start(&db, &["--workers", "2"]);
     let c = client();
-    let id = submit(&c, &s, &short_scene(0.02)).await;
+    let id = submit(&c, &s, &steady_scene(0.03)).await;
     let job = wait_finished(&c, &s, &id, Duration::from_secs(120)).await;
     assert_eq!(job["state"], "succeeded", "{job}\n{}", s.log());
     assert_eq!(job["progress"], 1.0);

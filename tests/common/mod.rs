@@ -82,6 +82,12 @@ pub fn short_scene(duration: f64) -> Value {
     json!({"preset": "h7005c", "fault_case": "compound", "overrides": {"solver": {"duration": duration}}})
 }
 
+/// A short run that reaches steady speed (5 ms ramp), so the summary's averages exist.
+pub fn steady_scene(duration: f64) -> Value {
+    json!({"preset": "h7005c", "fault_case": "compound",
+           "overrides": {"operating": {"speed": {"ramp_time": 0.005}}, "solver": {"duration": duration}}})
+}
+
 pub async fn post_json(c: &reqwest::Client, url: &str, body: &Value) -> (u16, reqwest::header::HeaderMap, Value) {
     let r = c.post(url).json(body).send().await.unwrap();
     let status = r.status().as_u16();
