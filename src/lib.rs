@@ -15,5 +15,5 @@ pub mod dynamics;
 pub mod physics;
 pub mod quasi_static;
 pub mod scene;
-pub mod simulation;
 pub mod signal;
+pub mod simulation;

@@ -12,7 +12,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "bearing-sim", version, about = "Angular contact ball bearing dynamics and fault diagnosis")]
+#[command(
+    name = "bearing-sim",
+    version,
+    about = "Angular contact ball bearing dynamics and fault diagnosis"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

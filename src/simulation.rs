@@ -38,7 +38,12 @@ impl<'de> Deserialize<'de> for ValidationErrors {
         }
         let v: Vec<Fe> = Vec::deserialize(d)?;
         Ok(ValidationErrors(
-            v.into_iter().map(|f| crate::scene::FieldError { path: f.path, message: f.message }).collect(),
+            v.into_iter()
+                .map(|f| crate::scene::FieldError {
+                    path: f.path,
+                    message: f.message,
+                })
+                .collect(),
         ))
     }
 }

@@ -1,10 +1,153 @@
-//! `bearing-sim analyze` (placeholder until implemented).
+//! `bearing-sim analyze FILE --fs HZ --rpm RPM --bearing PRESET|FILE [--levels N]`:
+//! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use bearing_sim::signal::io::{read_signal, SignalFormat};
+use bearing_sim::signal::{analyze, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry};
+use serde::{Deserialize, Serialize};
 
 use super::CliResult;
 
 #[derive(clap::Args, Debug)]
-pub struct AnalyzeArgs {}
+pub struct AnalyzeArgs {
+    /// Signal file: raw little-endian float32 (.f32le/.f32/.raw/.bin), single-column CSV
+    /// (.csv/.txt) or a JSON array (.json).
+    pub file: PathBuf,
+    /// Sample rate, Hz.
+    #[arg(long)]
+    pub fs: f64,
+    /// Shaft (inner ring) speed, rev/min.
+    #[arg(long)]
+    pub rpm: f64,
+    /// Bearing: a preset name (h7005c, cwru6205) or a JSON file with ball_count,
+    /// ball_diameter (m), pitch_diameter (m), contact_angle (rad).
+    #[arg(long)]
+    pub bearing: String,
+    /// DTCWT levels.
+    #[arg(long, default_value_t = 5)]
+    pub levels: usize,
+    /// Sample format (default: from the file extension).
+    #[arg(long, value_parser = parse_format)]
+    pub format: Option<SignalFormat>,
+    /// Analysis window T0,T1 in s from the first sample (default: whole signal).
+    #[arg(long, value_parser = parse_pair)]
+    pub window: Option<[f64; 2]>,
+    /// Band-pass F0,F1 in Hz applied to the raw signal before its envelope.
+    #[arg(long, value_parser = parse_pair)]
+    pub band: Option<[f64; 2]>,
+    /// Half-width of the peak search band, % of each target frequency.
+    #[arg(long, default_value_t = 5.0)]
+    pub search_band_pct: f64,
+    /// Harmonics searched per characteristic frequency.
+    #[arg(long, default_value_t = 3)]
+    pub harmonics: usize,
+    /// Detection threshold on the prominence, dB.
+    #[arg(long, default_value_t = bearing_sim::signal::identify::DEFAULT_THRESHOLD_DB)]
+    pub threshold_db: f64,
+    /// Level-1 wavelet filter set.
+    #[arg(long, default_value = "near_sym_b")]
+    pub biort: String,
+    /// Wavelet filter set of levels >= 2.
+    #[arg(long, default_value = "qshift_b")]
+    pub qshift: String,
+    /// Report the identifications of every DTCWT level, not only the best two.
+    #[arg(long)]
+    pub all_levels: bool,
+    /// Also write the envelope spectra (raw and per level) as JSON to this file.
+    #[arg(long)]
+    pub spectra_out: Option<PathBuf>,
+}
 
-pub fn main(_args: AnalyzeArgs) -> CliResult {
-    Err("not implemented yet".into())
+fn parse_format(s: &str) -> Result<SignalFormat, String> {
+    s.parse()
+}
+
+fn parse_pair(s: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 2 {
+        return Err(format!("expected two comma-separated numbers A,B (got '{s}')"));
+    }
+    let num = |p: &str| p.parse::<f64>().map_err(|_| format!("'{p}' is not a number"));
+    Ok([num(parts[0])?, num(parts[1])?])
+}
+
+/// A bearing file: exactly the fields of [`KinematicGeometry`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BearingFile {
+    ball_count: usize,
+    ball_diameter: f64,
+    pitch_diameter: f64,
+    contact_angle: f64,
+}
+
+fn load_bearing(spec: &str) -> Result<KinematicGeometry, String> {
+    if let Some(g) = kinematic_preset(spec) {
+        return Ok(g);
+    }
+    let path = Path::new(spec);
+    if !path.exists() {
+        return Err(format!(
+            "--bearing: '{spec}' is neither a preset ({}) nor an existing file",
+            kinematic_preset_names().join(", ")
+        ));
+    }
+    let text = std::fs::read_to_string(path).map_err(|e| format!("--bearing {spec}: cannot read: {e}"))?;
+    let b: BearingFile = serde_json::from_str(&text).map_err(|e| {
+        format!(
+            "--bearing {spec}: {e} (expected {{\"ball_count\", \"ball_diameter\" m, \"pitch_diameter\" m, \"contact_angle\" rad}})"
+        )
+    })?;
+    let g = KinematicGeometry {
+        ball_count: b.ball_count,
+        ball_diameter: b.ball_diameter,
+        pitch_diameter: b.pitch_diameter,
+        contact_angle: b.contact_angle,
+    };
+    g.validate().map_err(|(f, m)| format!("--bearing {spec}: {f}: {m}"))?;
+    Ok(g)
+}
+
+#[derive(Serialize)]
+struct SpectraFile<'a> {
+    raw: &'a bearing_sim::signal::Spectrum,
+    /// index 0 = level 1
+    levels: &'a [bearing_sim::signal::Spectrum],
+}
+
+pub fn main(args: AnalyzeArgs) -> CliResult {
+    if !(args.fs.is_finite() && args.fs > 0.0) {
+        return Err(format!("--fs: must be a sample rate > 0 Hz (got {})", args.fs).into());
+    }
+    if !(args.rpm.is_finite() && args.rpm > 0.0) {
+        return Err(format!("--rpm: must be a shaft speed > 0 rev/min (got {})", args.rpm).into());
+    }
+    let geometry = load_bearing(&args.bearing)?;
+    let samples = read_signal(&args.file, args.format)?;
+    let opts = AnalysisOptions {
+        levels: args.levels,
+        window: args.window,
+        band: args.band,
+        search_band_pct: args.search_band_pct,
+        harmonics: args.harmonics,
+        biort: args.biort.clone(),
+        qshift: args.qshift.clone(),
+        detection_threshold_db: args.threshold_db,
+        report_all_levels: args.all_levels,
+    };
+    let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
+        .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    if let Some(path) = &args.spectra_out {
+        let f = SpectraFile { raw: &out.raw_spectrum, levels: &out.level_spectra };
+        std::fs::write(path, serde_json::to_vec(&f)?).map_err(|e| format!("--spectra-out {}: {e}", path.display()))?;
+    }
+    let text = serde_json::to_string_pretty(&out.report)?;
+    let mut stdout = std::io::stdout().lock();
+    match writeln!(stdout, "{text}") {
+        // the reader went away (e.g. `| head`): not an error of ours
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        r => Ok(r?),
+    }
 }

@@ -42,13 +42,22 @@ pub fn main(args: RunArgs) -> CliResult {
     }
     scene.validate()?;
     let bar = ProgressBar::new(1000);
-    bar.set_style(ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {msg}").expect("static template"));
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {msg}")
+            .expect("static template"),
+    );
     let duration = scene.solver.duration;
     let mut on_progress = |f: f64| {
         bar.set_position((f * 1000.0) as u64);
         bar.set_message(format!("t = {:.4} / {duration} s", f * duration));
     };
-    let result = simulate(&scene, RunControl { cancel: None, progress: Some(&mut on_progress) });
+    let result = simulate(
+        &scene,
+        RunControl {
+            cancel: None,
+            progress: Some(&mut on_progress),
+        },
+    );
     bar.finish_and_clear();
     let result = result?;
     let s = &result.summary;
@@ -65,7 +74,8 @@ pub fn main(args: RunArgs) -> CliResult {
         100.0 * s.cage_slip
     );
     let out = serde_json::json!({ "scene": scene, "summary": result.summary, "channels": result.channels });
-    let file = std::fs::File::create(&args.out).map_err(|e| format!("--out {}: {e}", args.out.display()))?;
+    let file = std::fs::File::create(&args.out)
+        .map_err(|e| format!("--out {}: {e}", args.out.display()))?;
     serde_json::to_writer(std::io::BufWriter::new(file), &out)?;
     Ok(())
 }

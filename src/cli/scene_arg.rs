@@ -3,15 +3,25 @@
 use bearing_sim::scene::{fault_case_scene, preset_names, FaultCase, Scene};
 
 /// Load a scene from a JSON file, or build a preset (with `fault` applied) by name.
-pub fn load_scene(arg: &str, fault: Option<FaultCase>) -> Result<Scene, Box<dyn std::error::Error>> {
+pub fn load_scene(
+    arg: &str,
+    fault: Option<FaultCase>,
+) -> Result<Scene, Box<dyn std::error::Error>> {
     if preset_names().contains(&arg.to_ascii_lowercase().as_str()) {
         return Ok(fault_case_scene(arg, fault.unwrap_or(FaultCase::None)).expect("listed preset"));
     }
-    let text = std::fs::read_to_string(arg).map_err(|e| format!("SCENE '{arg}' is neither a preset ({}) nor a readable file: {e}", preset_names().join(", ")))?;
+    let text = std::fs::read_to_string(arg).map_err(|e| {
+        format!(
+            "SCENE '{arg}' is neither a preset ({}) nor a readable file: {e}",
+            preset_names().join(", ")
+        )
+    })?;
     let mut scene = Scene::from_json(&text).map_err(|e| format!("{arg}: {e}"))?;
     if let Some(f) = fault {
         if f != FaultCase::None || !scene.faults.is_empty() {
-            return Err("--fault only applies to preset scenes; edit the scene's `faults` instead".into());
+            return Err(
+                "--fault only applies to preset scenes; edit the scene's `faults` instead".into(),
+            );
         }
         scene.faults.clear();
     }

@@ -46,10 +46,30 @@ const A: [[f64; 5]; 6] = [
     [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0],
     [0.3, -0.9, 1.2, 0.0, 0.0],
     [-11.0 / 54.0, 2.5, -70.0 / 27.0, 35.0 / 27.0, 0.0],
-    [1631.0 / 55296.0, 175.0 / 512.0, 575.0 / 13824.0, 44275.0 / 110592.0, 253.0 / 4096.0],
+    [
+        1631.0 / 55296.0,
+        175.0 / 512.0,
+        575.0 / 13824.0,
+        44275.0 / 110592.0,
+        253.0 / 4096.0,
+    ],
 ];
-const B5: [f64; 6] = [37.0 / 378.0, 0.0, 250.0 / 621.0, 125.0 / 594.0, 0.0, 512.0 / 1771.0];
-const B4: [f64; 6] = [2825.0 / 27648.0, 0.0, 18575.0 / 48384.0, 13525.0 / 55296.0, 277.0 / 14336.0, 0.25];
+const B5: [f64; 6] = [
+    37.0 / 378.0,
+    0.0,
+    250.0 / 621.0,
+    125.0 / 594.0,
+    0.0,
+    512.0 / 1771.0,
+];
+const B4: [f64; 6] = [
+    2825.0 / 27648.0,
+    0.0,
+    18575.0 / 48384.0,
+    13525.0 / 55296.0,
+    277.0 / 14336.0,
+    0.25,
+];
 
 /// Buffers and tolerances of the adaptive stepper.
 pub struct AdaptiveRk4 {
@@ -80,7 +100,15 @@ impl AdaptiveRk4 {
 
     /// One attempted step from `(t, y)` with `f0 = f(t, y)` given. Leaves the 4th-order
     /// result in `y_new` and returns the scaled RMS error norm (accept when <= 1).
-    pub fn attempt<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], f0: &[f64], h: f64, stats: &mut StepStats) -> f64 {
+    pub fn attempt<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        stats: &mut StepStats,
+    ) -> f64 {
         let n = y.len();
         self.k[0].copy_from_slice(f0);
         for s in 1..6 {
@@ -106,7 +134,11 @@ impl AdaptiveRk4 {
             }
             let yn = y[i] + h * d4;
             self.y_new[i] = yn;
-            let mag = if self.phase[i] { self.scale[i] } else { y[i].abs().max(yn.abs()) };
+            let mag = if self.phase[i] {
+                self.scale[i]
+            } else {
+                y[i].abs().max(yn.abs())
+            };
             let sc = self.atol * self.scale[i] + self.rtol * mag;
             let e = h * (d5 - d4) / sc;
             sum += e * e;
@@ -133,11 +165,23 @@ pub struct FixedRk4 {
 
 impl FixedRk4 {
     pub fn new(n: usize) -> Self {
-        FixedRk4 { k: std::array::from_fn(|_| vec![0.0; n]), tmp: vec![0.0; n], y_new: vec![0.0; n] }
+        FixedRk4 {
+            k: std::array::from_fn(|_| vec![0.0; n]),
+            tmp: vec![0.0; n],
+            y_new: vec![0.0; n],
+        }
     }
 
     /// One step with `f0 = f(t, y)` given; result in `y_new`.
-    pub fn step<S: OdeSystem>(&mut self, sys: &mut S, t: f64, y: &[f64], f0: &[f64], h: f64, stats: &mut StepStats) {
+    pub fn step<S: OdeSystem>(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        stats: &mut StepStats,
+    ) {
         let n = y.len();
         self.k[0].copy_from_slice(f0);
         for (s, c) in [(1usize, 0.5), (2, 0.5), (3, 1.0)] {
@@ -148,7 +192,8 @@ impl FixedRk4 {
             stats.rhs_evals += 1;
         }
         for i in 0..n {
-            self.y_new[i] = y[i] + h / 6.0 * (self.k[0][i] + 2.0 * self.k[1][i] + 2.0 * self.k[2][i] + self.k[3][i]);
+            self.y_new[i] = y[i]
+                + h / 6.0 * (self.k[0][i] + 2.0 * self.k[1][i] + 2.0 * self.k[2][i] + self.k[3][i]);
         }
     }
 }
@@ -158,14 +203,21 @@ impl FixedRk4 {
 pub fn hermite(y0: f64, f0: f64, y1: f64, f1: f64, h: f64, s: f64) -> f64 {
     let s2 = s * s;
     let s3 = s2 * s;
-    (2.0 * s3 - 3.0 * s2 + 1.0) * y0 + (s3 - 2.0 * s2 + s) * h * f0 + (-2.0 * s3 + 3.0 * s2) * y1 + (s3 - s2) * h * f1
+    (2.0 * s3 - 3.0 * s2 + 1.0) * y0
+        + (s3 - 2.0 * s2 + s) * h * f0
+        + (-2.0 * s3 + 3.0 * s2) * y1
+        + (s3 - s2) * h * f1
 }
 
 /// Time derivative of the cubic Hermite interpolant at fraction `s`.
 #[inline]
 pub fn hermite_derivative(y0: f64, f0: f64, y1: f64, f1: f64, h: f64, s: f64) -> f64 {
     let s2 = s * s;
-    ((6.0 * s2 - 6.0 * s) * y0 + (3.0 * s2 - 4.0 * s + 1.0) * h * f0 + (-6.0 * s2 + 6.0 * s) * y1 + (3.0 * s2 - 2.0 * s) * h * f1) / h
+    ((6.0 * s2 - 6.0 * s) * y0
+        + (3.0 * s2 - 4.0 * s + 1.0) * h * f0
+        + (-6.0 * s2 + 6.0 * s) * y1
+        + (3.0 * s2 - 2.0 * s) * h * f1)
+        / h
 }
 
 #[cfg(test)]
@@ -189,7 +241,10 @@ mod tests {
     }
 
     fn run_adaptive(rtol: f64) -> (f64, StepStats, u64) {
-        let mut sys = Osc { w: 2.0 * std::f64::consts::PI, calls: 0 };
+        let mut sys = Osc {
+            w: 2.0 * std::f64::consts::PI,
+            calls: 0,
+        };
         let mut st = StepStats::default();
         let mut rk = AdaptiveRk4::new(2, rtol, rtol, vec![1.0, 6.3], vec![false, false]);
         let (mut t, mut y, mut h) = (0.0, vec![1.0, 0.0], 1e-3);
@@ -220,9 +275,16 @@ mod tests {
         assert!(e1 < 1e-4, "{e1}");
         assert_eq!(s1.rhs_evals, calls, "every evaluation is counted");
         // Pinned counts (diffsol practice): a change here means the controller changed.
-        assert_eq!((s1.accepted, s1.rejected), (PIN_ACCEPTED, PIN_REJECTED), "{s1:?}");
+        assert_eq!(
+            (s1.accepted, s1.rejected),
+            (PIN_ACCEPTED, PIN_REJECTED),
+            "{s1:?}"
+        );
         let (e2, s2, _) = run_adaptive(1e-8);
-        assert!(e2 < e1 / 10.0, "tighter tolerance must reduce the error: {e1} -> {e2}");
+        assert!(
+            e2 < e1 / 10.0,
+            "tighter tolerance must reduce the error: {e1} -> {e2}"
+        );
         assert!(s2.accepted > s1.accepted);
     }
     const PIN_ACCEPTED: u64 = 0;

@@ -65,7 +65,12 @@ impl Model {
         let cos_free = 1.0 - pd / (2.0 * bsum);
         let alpha0 = cos_free.clamp(-1.0, 1.0).acos();
         let gamma = d * alpha0.cos() / dm;
-        let ep_race = effective_modulus(m.balls.youngs_modulus, m.balls.poisson_ratio, m.rings.youngs_modulus, m.rings.poisson_ratio);
+        let ep_race = effective_modulus(
+            m.balls.youngs_modulus,
+            m.balls.poisson_ratio,
+            m.rings.youngs_modulus,
+            m.rings.poisson_ratio,
+        );
         let (fi, fo) = (b.inner_groove_curvature, b.outer_groove_curvature);
         let rx_i = 0.5 * d * (1.0 - gamma);
         let rx_o = 0.5 * d * (1.0 + gamma);
@@ -76,7 +81,12 @@ impl Model {
                 .faults
                 .iter()
                 .filter(|f| f.ring == ring)
-                .map(|f| RaceDefect { angle: f.angle, half_angle: 0.5 * f.width / path, width: f.width, depth: f.depth })
+                .map(|f| RaceDefect {
+                    angle: f.angle,
+                    half_angle: 0.5 * f.width / path,
+                    width: f.width,
+                    depth: f.depth,
+                })
                 .collect()
         };
         // Curvature centres: outer at x = 0, inner offset axially so that an unloaded ball
@@ -108,13 +118,23 @@ impl Model {
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
         let (ta, tb, tc, td) = scene.lubricant.traction.abcd();
         let contact = ContactParams {
-            traction: TractionCurve { a: ta, b: tb, c: tc, d: td },
+            traction: TractionCurve {
+                a: ta,
+                b: tb,
+                c: tc,
+                d: td,
+            },
             strips: scene.solver.traction_strips,
             damping_ratio: scene.lubricant.contact_damping_ratio,
             ball_mass,
         };
         let cg = &b.cage;
-        let ep_cage = effective_modulus(m.balls.youngs_modulus, m.balls.poisson_ratio, m.cage.youngs_modulus, m.cage.poisson_ratio);
+        let ep_cage = effective_modulus(
+            m.balls.youngs_modulus,
+            m.balls.poisson_ratio,
+            m.cage.youngs_modulus,
+            m.cage.poisson_ratio,
+        );
         // Ball in a cylindrical pocket: conformal across the pocket axis, sphere along it.
         let r_across = 1.0 / (2.0 / d - 2.0 / cg.pocket_diameter);
         let pocket = PocketParams {
@@ -125,25 +145,40 @@ impl Model {
             viscosity: scene.lubricant.dynamic_viscosity,
             ball_radius: rb,
             friction: scene.lubricant.cage_friction,
+            damping_ratio: scene.lubricant.contact_damping_ratio,
+            damping_mass: ball_mass,
         };
-        let ep_land = effective_modulus(m.rings.youngs_modulus, m.rings.poisson_ratio, m.cage.youngs_modulus, m.cage.poisson_ratio);
+        let ep_land = effective_modulus(
+            m.rings.youngs_modulus,
+            m.rings.poisson_ratio,
+            m.cage.youngs_modulus,
+            m.cage.poisson_ratio,
+        );
+        let (ro, ri) = (0.5 * cg.outer_diameter, 0.5 * cg.inner_diameter);
+        let cage_volume = PI * (ro * ro - ri * ri) * cg.width
+            - z as f64 * 0.25 * PI * cg.pocket_diameter * cg.pocket_diameter * (ro - ri);
+        let cage_mass = m.cage.density * cage_volume;
+        let land_k = 0.25 * PI * ep_land * cg.width;
         let land_of = |radius: f64| LandParams {
             clearance: 0.5 * cg.land_clearance,
             radius,
             width: cg.width,
             viscosity: scene.lubricant.dynamic_viscosity,
-            critical_film: scene.lubricant.critical_film_cage_land.min(0.5 * cg.land_clearance * 0.9),
-            contact_stiffness: 0.25 * PI * ep_land * cg.width,
+            critical_film: scene
+                .lubricant
+                .critical_film_cage_land
+                .min(0.5 * cg.land_clearance * 0.9),
+            contact_stiffness: land_k,
             friction: scene.lubricant.cage_friction,
+            contact_damping: 2.0
+                * scene.lubricant.contact_damping_ratio
+                * (land_k * cage_mass).sqrt(),
         };
         let (land, land_on_outer) = match cg.guidance {
             CageGuidance::OuterLand => (Some(land_of(0.5 * cg.outer_diameter)), true),
             CageGuidance::InnerLand => (Some(land_of(0.5 * cg.inner_diameter)), false),
             CageGuidance::Ball => (None, false),
         };
-        let (ro, ri) = (0.5 * cg.outer_diameter, 0.5 * cg.inner_diameter);
-        let cage_volume = PI * (ro * ro - ri * ri) * cg.width - z as f64 * 0.25 * PI * cg.pocket_diameter * cg.pocket_diameter * (ro - ri);
-        let cage_mass = m.cage.density * cage_volume;
         let cage_inertia = [
             0.5 * cage_mass * (ro * ro + ri * ri),
             cage_mass * (3.0 * (ro * ro + ri * ri) + cg.width * cg.width) / 12.0,
@@ -151,12 +186,17 @@ impl Model {
         let (rio, rii) = (0.5 * b.inner_land_diameter, 0.5 * b.bore_diameter);
         let ring_mass = m.rings.density * PI * (rio * rio - rii * rii) * b.width;
         let inner_mass = ring_mass + scene.operating.shaft_mass;
-        let inner_tilt_inertia = ring_mass * (3.0 * (rio * rio + rii * rii) + b.width * b.width) / 12.0;
+        let inner_tilt_inertia =
+            ring_mass * (3.0 * (rio * rio + rii * rii) + b.width * b.width) / 12.0;
         let op = &scene.operating;
         let (s, c) = op.radial_load_angle.sin_cos();
         let rpm = |n: f64| n * 2.0 * PI / 60.0;
         let speed = if op.speed.ramp_time > 0.0 {
-            (rpm(op.speed.initial_rpm), rpm(op.speed.steady_rpm), op.speed.ramp_time)
+            (
+                rpm(op.speed.initial_rpm),
+                rpm(op.speed.steady_rpm),
+                op.speed.ramp_time,
+            )
         } else {
             (rpm(op.speed.steady_rpm), rpm(op.speed.steady_rpm), 0.0)
         };

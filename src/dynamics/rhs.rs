@@ -48,7 +48,11 @@ pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
     let o = l.outer;
     let inner = RingMotion {
         centre: Vector3::new(y[i], y[i + 1], y[i + 2]),
-        rot: if m.tilt_free { tilt_matrix(y[i + 3], y[i + 4]) } else { Matrix3::identity() },
+        rot: if m.tilt_free {
+            tilt_matrix(y[i + 3], y[i + 4])
+        } else {
+            Matrix3::identity()
+        },
         velocity: Vector3::new(y[i + 5], y[i + 6], y[i + 7]),
         spin: m.shaft_speed(t),
         spin_angle: m.shaft_angle(t),
@@ -108,7 +112,14 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         let ball = ball_motion(y, b);
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
-        let pc = pocket_contact(&m.pocket, &cage, m.pocket_angles[j], &ball.centre, &ball.velocity, &ball.omega);
+        let pc = pocket_contact(
+            &m.pocket,
+            &cage,
+            m.pocket_angles[j],
+            &ball.centre,
+            &ball.velocity,
+            &ball.omega,
+        );
         let f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
         let mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
         f_inner += ci.force_on_ring;
@@ -148,7 +159,13 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     let mut land_ecc = 0.0;
     if let Some(lp) = &m.land {
         let ring = if m.land_on_outer { &outer } else { &inner };
-        let lr = land_force(lp, &(cage.centre - ring.centre), &(cage.velocity - ring.velocity), cage.omega.x, ring.spin);
+        let lr = land_force(
+            lp,
+            &(cage.centre - ring.centre),
+            &(cage.velocity - ring.velocity),
+            cage.omega.x,
+            ring.spin,
+        );
         f_cage += lr.force_on_cage;
         cage_torque_x = lr.torque_on_cage;
         land_ecc = lr.eccentricity_ratio;
@@ -181,7 +198,8 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     // Outer ring on its pedestal, eq. 29.
     let o = l.outer;
     let ay = (f_outer.y - m.pedestal_k[0] * y[o] - m.pedestal_c[0] * y[o + 2]) / m.pedestal_mass;
-    let az = (f_outer.z - m.pedestal_k[1] * y[o + 1] - m.pedestal_c[1] * y[o + 3]) / m.pedestal_mass;
+    let az =
+        (f_outer.z - m.pedestal_k[1] * y[o + 1] - m.pedestal_c[1] * y[o + 3]) / m.pedestal_mass;
     dy[o] = y[o + 2];
     dy[o + 1] = y[o + 3];
     dy[o + 2] = ay;

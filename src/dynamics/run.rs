@@ -9,7 +9,9 @@ use super::state::{kinds, Kind};
 use crate::physics::defect::wrap_angle;
 use crate::quasi_static::QsState;
 use crate::scene::{Integrator, Scene};
-use crate::simulation::{BallSummary, Channel, Channels, RunControl, SimError, SimResult, SolverStats, Summary};
+use crate::simulation::{
+    BallSummary, Channel, Channels, RunControl, SimError, SimResult, SolverStats, Summary,
+};
 use std::f64::consts::TAU;
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -139,8 +141,16 @@ struct Recorder {
 }
 
 /// Run the integration. `qs` is the quasi-static start at the initial speed.
-pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) -> Result<SimResult, SimError> {
-    let RunControl { cancel, mut progress } = ctl;
+pub fn integrate(
+    m: &Model,
+    scene: &Scene,
+    qs: &QsState,
+    ctl: RunControl<'_>,
+) -> Result<SimResult, SimError> {
+    let RunControl {
+        cancel,
+        mut progress,
+    } = ctl;
     let sv = &scene.solver;
     let tend = sv.duration;
     let n = m.layout.len;
@@ -160,18 +170,34 @@ pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) ->
         next: 0,
         n: n_samples,
         accel: [Vec::with_capacity(n_samples), Vec::with_capacity(n_samples)],
-        cage: scene.outputs.cage_speed.then(|| Vec::with_capacity(n_samples)),
-        cage_ecc: scene.outputs.cage_speed.then(|| Vec::with_capacity(n_samples)),
-        inner: scene.outputs.inner_ring_displacement.then(|| std::array::from_fn(|_| Vec::with_capacity(n_samples))),
-        loads: scene.outputs.contact_loads_ball.map(|k| (k, Vec::with_capacity(n_samples), Vec::with_capacity(n_samples))),
+        cage: scene
+            .outputs
+            .cage_speed
+            .then(|| Vec::with_capacity(n_samples)),
+        cage_ecc: scene
+            .outputs
+            .cage_speed
+            .then(|| Vec::with_capacity(n_samples)),
+        inner: scene
+            .outputs
+            .inner_ring_displacement
+            .then(|| std::array::from_fn(|_| Vec::with_capacity(n_samples))),
+        loads: scene.outputs.contact_loads_ball.map(|k| {
+            (
+                k,
+                Vec::with_capacity(n_samples),
+                Vec::with_capacity(n_samples),
+            )
+        }),
         scratch_y: vec![0.0; n],
         scratch_f: vec![0.0; n],
         diag: Diagnostics::new(m.z),
     };
 
-    // Steady window: after the ramp plus a settling time.
+    // Steady window: after the ramp plus a settling time (the start-up transient of the
+    // cage and the pedestal dies out within ~40 ms for the H7005C at 10000 rpm).
     let ramp = m.speed.2;
-    let settle = (0.25 * (tend - ramp)).min(0.05);
+    let settle = (0.25 * (tend - ramp)).min(0.1);
     let w0 = (ramp + settle).min(tend);
     let mut acc = Averages::new(m.z);
 
@@ -192,7 +218,11 @@ pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) ->
             }
         }
         let remaining = tend - t;
-        let mut h_try = if is_fixed { sv.initial_step } else { h.min(sv.max_step).min(defect_step_bound(m, t, &y)) };
+        let mut h_try = if is_fixed {
+            sv.initial_step
+        } else {
+            h.min(sv.max_step).min(defect_step_bound(m, t, &y))
+        };
         // land exactly on the end without a sliver step
         if h_try >= remaining * (1.0 - 1e-12) {
             h_try = remaining;
@@ -206,7 +236,12 @@ pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) ->
             let err = adaptive.attempt(&mut sys, t, &y, &f, h_try, &mut stats);
             if !(err <= 1.0) {
                 stats.rejected += 1;
-                h = h_try * if err.is_finite() { AdaptiveRk4::factor(err) } else { 0.1 };
+                h = h_try
+                    * if err.is_finite() {
+                        AdaptiveRk4::factor(err)
+                    } else {
+                        0.1
+                    };
                 if h < h_min {
                     return Err(SimError::Numerical {
                         time: t,
@@ -222,7 +257,11 @@ pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) ->
         let t_new = if h_try == remaining { tend } else { t + h_try };
         rhs(m, t_new, &y_next, &mut f_next, Some(&mut diag));
         stats.rhs_evals += 1;
-        if let Some(i) = y_next.iter().chain(f_next.iter()).position(|v| !v.is_finite()) {
+        if let Some(i) = y_next
+            .iter()
+            .chain(f_next.iter())
+            .position(|v| !v.is_finite())
+        {
             return Err(SimError::Numerical {
                 time: t_new,
                 message: format!("non-finite state or derivative (component {} of {}) after a step of {h_try:.3e} s", i % n, n),
@@ -248,20 +287,36 @@ pub fn integrate(m: &Model, scene: &Scene, qs: &QsState, ctl: RunControl<'_>) ->
         p(1.0);
     }
     let wall = start.elapsed().as_secs_f64();
-    let summary = acc.finish(m, [w0, tend], SolverStats {
-        accepted_steps: stats.accepted,
-        rejected_steps: stats.rejected,
-        rhs_evaluations: stats.rhs_evals,
-        min_step: stats.min_step,
-        max_step: stats.max_step,
-        wall_time: wall,
-    });
-    Ok(SimResult { summary, channels: rec.finish() })
+    let summary = acc.finish(
+        m,
+        [w0, tend],
+        SolverStats {
+            accepted_steps: stats.accepted,
+            rejected_steps: stats.rejected,
+            rhs_evaluations: stats.rhs_evals,
+            min_step: stats.min_step,
+            max_step: stats.max_step,
+            wall_time: wall,
+        },
+    );
+    Ok(SimResult {
+        summary,
+        channels: rec.finish(),
+    })
 }
 
 impl Recorder {
     /// Record every output sample in `(t, t + h]` (or at t when h = 0).
-    fn sample(&mut self, m: &Model, t: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64]) {
+    fn sample(
+        &mut self,
+        m: &Model,
+        t: f64,
+        h: f64,
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+    ) {
         let o = m.layout.outer;
         let c = m.layout.cage;
         let i = m.layout.inner;
@@ -270,12 +325,26 @@ impl Recorder {
             if ts > t + h + 1e-15 || (h == 0.0 && ts > t) {
                 break;
             }
-            let s = if h > 0.0 { ((ts - t) / h).clamp(0.0, 1.0) } else { 0.0 };
+            let s = if h > 0.0 {
+                ((ts - t) / h).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let hs = if h > 0.0 { h } else { 1.0 };
-            let interp = |k: usize| if h > 0.0 { hermite(y0[k], f0[k], y1[k], f1[k], h, s) } else { y0[k] };
+            let interp = |k: usize| {
+                if h > 0.0 {
+                    hermite(y0[k], f0[k], y1[k], f1[k], h, s)
+                } else {
+                    y0[k]
+                }
+            };
             for (ax, comp) in self.accel.iter_mut().zip([o + 2, o + 3]) {
                 // acceleration: derivative of the interpolated velocity
-                let a = if h > 0.0 { hermite_derivative(y0[comp], f0[comp], y1[comp], f1[comp], hs, s) } else { f0[comp] };
+                let a = if h > 0.0 {
+                    hermite_derivative(y0[comp], f0[comp], y1[comp], f1[comp], hs, s)
+                } else {
+                    f0[comp]
+                };
                 ax.push(a);
             }
             if let Some(v) = self.cage.as_mut() {
@@ -283,7 +352,11 @@ impl Recorder {
             }
             if let Some(v) = self.cage_ecc.as_mut() {
                 // cage centre relative to its guiding ring (outer ring unless inner-land guided)
-                let (gy, gz) = if m.land.is_some() && !m.land_on_outer { (interp(i + 1), interp(i + 2)) } else { (interp(o), interp(o + 1)) };
+                let (gy, gz) = if m.land.is_some() && !m.land_on_outer {
+                    (interp(i + 1), interp(i + 2))
+                } else {
+                    (interp(o), interp(o + 1))
+                };
                 let e = (interp(c + 1) - gy).hypot(interp(c + 2) - gz);
                 v.push(m.land.as_ref().map_or(e, |l| e / l.clearance));
             }
@@ -296,7 +369,13 @@ impl Recorder {
                 for k in 0..y0.len() {
                     self.scratch_y[k] = interp(k);
                 }
-                rhs(m, ts, &self.scratch_y, &mut self.scratch_f, Some(&mut self.diag));
+                rhs(
+                    m,
+                    ts,
+                    &self.scratch_y,
+                    &mut self.scratch_f,
+                    Some(&mut self.diag),
+                );
                 li.push(self.diag.inner_load[*ball]);
                 lo.push(self.diag.outer_load[*ball]);
             }
@@ -307,24 +386,64 @@ impl Recorder {
     fn finish(self) -> Channels {
         let mut ch = Vec::new();
         let [ay, az] = self.accel;
-        ch.push(Channel { name: "outer_ring_accel_y".into(), unit: "m/s^2".into(), data: ay });
-        ch.push(Channel { name: "outer_ring_accel_z".into(), unit: "m/s^2".into(), data: az });
+        ch.push(Channel {
+            name: "outer_ring_accel_y".into(),
+            unit: "m/s^2".into(),
+            data: ay,
+        });
+        ch.push(Channel {
+            name: "outer_ring_accel_z".into(),
+            unit: "m/s^2".into(),
+            data: az,
+        });
         if let Some(v) = self.cage {
-            ch.push(Channel { name: "cage_speed".into(), unit: "rad/s".into(), data: v });
+            ch.push(Channel {
+                name: "cage_speed".into(),
+                unit: "rad/s".into(),
+                data: v,
+            });
         }
         if let Some(v) = self.cage_ecc {
-            ch.push(Channel { name: "cage_eccentricity".into(), unit: "-".into(), data: v });
+            ch.push(Channel {
+                name: "cage_eccentricity".into(),
+                unit: "-".into(),
+                data: v,
+            });
         }
         if let Some([x, y, z]) = self.inner {
-            ch.push(Channel { name: "inner_ring_disp_x".into(), unit: "m".into(), data: x });
-            ch.push(Channel { name: "inner_ring_disp_y".into(), unit: "m".into(), data: y });
-            ch.push(Channel { name: "inner_ring_disp_z".into(), unit: "m".into(), data: z });
+            ch.push(Channel {
+                name: "inner_ring_disp_x".into(),
+                unit: "m".into(),
+                data: x,
+            });
+            ch.push(Channel {
+                name: "inner_ring_disp_y".into(),
+                unit: "m".into(),
+                data: y,
+            });
+            ch.push(Channel {
+                name: "inner_ring_disp_z".into(),
+                unit: "m".into(),
+                data: z,
+            });
         }
         if let Some((k, li, lo)) = self.loads {
-            ch.push(Channel { name: format!("ball{k}_inner_load"), unit: "N".into(), data: li });
-            ch.push(Channel { name: format!("ball{k}_outer_load"), unit: "N".into(), data: lo });
+            ch.push(Channel {
+                name: format!("ball{k}_inner_load"),
+                unit: "N".into(),
+                data: li,
+            });
+            ch.push(Channel {
+                name: format!("ball{k}_outer_load"),
+                unit: "N".into(),
+                data: lo,
+            });
         }
-        Channels { sample_rate: self.fs, start_time: 0.0, channels: ch }
+        Channels {
+            sample_rate: self.fs,
+            start_time: 0.0,
+            channels: ch,
+        }
     }
 }
 
@@ -370,7 +489,14 @@ impl Averages {
         for j in 0..m.z {
             let th = y[m.layout.ball(j) + 2];
             let k = ((th.rem_euclid(TAU) * m.z as f64 / TAU).round() as usize) % m.z;
-            self.zone.add(k, w, d.inner_load[j], d.outer_load[j], d.inner_alpha[j], d.outer_alpha[j]);
+            self.zone.add(
+                k,
+                w,
+                d.inner_load[j],
+                d.outer_load[j],
+                d.inner_alpha[j],
+                d.outer_alpha[j],
+            );
             self.load_i[j] += w * d.inner_load[j];
             self.load_o[j] += w * d.outer_load[j];
             if d.inner_load[j] > 0.0 {
@@ -391,8 +517,16 @@ impl Averages {
             .map(|j| BallSummary {
                 inner_load: self.load_i[j] / tt,
                 outer_load: self.load_o[j] / tt,
-                inner_contact_angle: if self.t_i[j] > 0.0 { self.ang_i[j] / self.t_i[j] } else { f64::NAN },
-                outer_contact_angle: if self.t_o[j] > 0.0 { self.ang_o[j] / self.t_o[j] } else { f64::NAN },
+                inner_contact_angle: if self.t_i[j] > 0.0 {
+                    self.ang_i[j] / self.t_i[j]
+                } else {
+                    f64::NAN
+                },
+                outer_contact_angle: if self.t_o[j] > 0.0 {
+                    self.ang_o[j] / self.t_o[j]
+                } else {
+                    f64::NAN
+                },
             })
             .collect();
         // Pure-rolling (epicyclic) cage speed at the load-weighted mean contact angles,
@@ -405,8 +539,18 @@ impl Averages {
                 ao += b.outer_load * b.outer_contact_angle;
             }
         }
-        let (ai, ao) = if wsum > 0.0 { (ai / wsum, ao / wsum) } else { (m.free_contact_angle, m.free_contact_angle) };
-        let epi = crate::quasi_static::rolling_kinematics(0.5 * m.pitch_diameter, ai, ao, 0.5 * m.ball_diameter, shaft)[0];
+        let (ai, ao) = if wsum > 0.0 {
+            (ai / wsum, ao / wsum)
+        } else {
+            (m.free_contact_angle, m.free_contact_angle)
+        };
+        let epi = crate::quasi_static::rolling_kinematics(
+            0.5 * m.pitch_diameter,
+            ai,
+            ao,
+            0.5 * m.ball_diameter,
+            shaft,
+        )[0];
         Summary {
             stats,
             steady_window: window,
@@ -414,7 +558,11 @@ impl Averages {
             mean_cage_speed: cage,
             epicyclic_cage_speed: epi,
             cage_slip: if epi != 0.0 { 1.0 - cage / epi } else { 0.0 },
-            mean_inner_ring_reaction: [self.reaction[0] / tt, self.reaction[1] / tt, self.reaction[2] / tt],
+            mean_inner_ring_reaction: [
+                self.reaction[0] / tt,
+                self.reaction[1] / tt,
+                self.reaction[2] / tt,
+            ],
             balls,
             load_zone: self.zone.finish(),
         }
@@ -435,7 +583,15 @@ struct ZoneSums {
 
 impl ZoneSums {
     fn new(z: usize) -> Self {
-        ZoneSums { time: vec![0.0; z], load_i: vec![0.0; z], load_o: vec![0.0; z], ang_i: vec![0.0; z], ang_o: vec![0.0; z], t_i: vec![0.0; z], t_o: vec![0.0; z] }
+        ZoneSums {
+            time: vec![0.0; z],
+            load_i: vec![0.0; z],
+            load_o: vec![0.0; z],
+            ang_i: vec![0.0; z],
+            ang_o: vec![0.0; z],
+            t_i: vec![0.0; z],
+            t_o: vec![0.0; z],
+        }
     }
     fn add(&mut self, k: usize, w: f64, li: f64, lo: f64, ai: f64, ao: f64) {
         self.time[k] += w;
@@ -457,8 +613,16 @@ impl ZoneSums {
                 BallSummary {
                     inner_load: self.load_i[k] / t,
                     outer_load: self.load_o[k] / t,
-                    inner_contact_angle: if self.t_i[k] > 0.0 { self.ang_i[k] / self.t_i[k] } else { f64::NAN },
-                    outer_contact_angle: if self.t_o[k] > 0.0 { self.ang_o[k] / self.t_o[k] } else { f64::NAN },
+                    inner_contact_angle: if self.t_i[k] > 0.0 {
+                        self.ang_i[k] / self.t_i[k]
+                    } else {
+                        f64::NAN
+                    },
+                    outer_contact_angle: if self.t_o[k] > 0.0 {
+                        self.ang_o[k] / self.t_o[k]
+                    } else {
+                        f64::NAN
+                    },
                 }
             })
             .collect()

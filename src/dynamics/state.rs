@@ -29,7 +29,13 @@ impl Layout {
         let inner = BALL * ball_count;
         let outer = inner + INNER;
         let cage = outer + OUTER;
-        Layout { balls: ball_count, inner, outer, cage, len: cage + CAGE }
+        Layout {
+            balls: ball_count,
+            inner,
+            outer,
+            cage,
+            len: cage + CAGE,
+        }
     }
     #[inline]
     pub fn ball(&self, j: usize) -> usize {
@@ -53,10 +59,44 @@ pub fn kinds(l: &Layout) -> Vec<Kind> {
     use Kind::*;
     let mut k = Vec::with_capacity(l.len);
     for _ in 0..l.balls {
-        k.extend_from_slice(&[Length, Length, Phase, Velocity, Velocity, AngularVelocity, AngularVelocity, AngularVelocity, AngularVelocity]);
+        k.extend_from_slice(&[
+            Length,
+            Length,
+            Phase,
+            Velocity,
+            Velocity,
+            AngularVelocity,
+            AngularVelocity,
+            AngularVelocity,
+            AngularVelocity,
+        ]);
     }
-    k.extend_from_slice(&[Length, Length, Length, Angle, Angle, Velocity, Velocity, Velocity, AngularVelocity, AngularVelocity]);
+    k.extend_from_slice(&[
+        Length,
+        Length,
+        Length,
+        Angle,
+        Angle,
+        Velocity,
+        Velocity,
+        Velocity,
+        AngularVelocity,
+        AngularVelocity,
+    ]);
     k.extend_from_slice(&[Length, Length, Velocity, Velocity]);
-    k.extend_from_slice(&[Length, Length, Length, Phase, Angle, Angle, Velocity, Velocity, Velocity, AngularVelocity, AngularVelocity, AngularVelocity]);
+    k.extend_from_slice(&[
+        Length,
+        Length,
+        Length,
+        Phase,
+        Angle,
+        Angle,
+        Velocity,
+        Velocity,
+        Velocity,
+        AngularVelocity,
+        AngularVelocity,
+        AngularVelocity,
+    ]);
     k
 }

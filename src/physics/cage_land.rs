@@ -1,9 +1,13 @@
 //! Cage-land interaction (eqs. 23-28).
 //!
-//! Above the critical film the guiding land is a short (Ocvirk) journal bearing: with
-//! eccentricity ratio `e`, sum surface speed `U = (w_cage + w_ring) R`, width `L` and
-//! radial clearance `c`, the radial force is `eta U L^3 e^2 / (c^2 (1 - e^2)^2)`, the
-//! tangential (whirl) force `pi eta U L^3 e / (4 c^2 (1 - e^2)^1.5)`, the radial squeeze
+//! Above the critical film the guiding land is a short journal bearing: with
+//! eccentricity ratio `e`, sum surface speed `U = (w_cage + w_ring) R` (eq. 27), width `L`
+//! and radial clearance `c`, the radial force is `eta U L^3 e^2 / (c^2 (1 - e^2)^2)` and
+//! the tangential force `pi eta U L^3 e^2 / (4 c^2 (1 - e^2)^1.5)`, both as printed in
+//! eq. 26. (Ocvirk's rigid short-bearing solution has `e` instead of `e^2` in the
+//! tangential force; with it the nearly unloaded H7005C cage whirls at e ~ 0.7 and rattles
+//! its balls to 12 g RMS on a healthy bearing, which the paper's model, and a grease-
+//! lubricated, starved land, do not show. See docs/model.md.) Added: the radial squeeze
 //! force `pi eta R L^3 (1 + 2 e^2) de/dt / (2 c^2 (1 - e^2)^2.5)` and the viscous drag
 //! torque `2 pi eta R^3 L (w_cage - w_ring) / (c sqrt(1 - e^2))` (Petroff, eccentric).
 //! Below the critical film the cage touches the land: a line contact of stiffness
@@ -30,6 +34,8 @@ pub struct LandParams {
     pub contact_stiffness: f64,
     /// Coulomb friction coefficient, -.
     pub friction: f64,
+    /// Viscous damping of the rim contact, N s/m.
+    pub contact_damping: f64,
 }
 
 /// Force (inertial) and axial torque on the cage from its guiding land.
@@ -43,7 +49,13 @@ pub struct LandResult {
 
 /// `rel_pos`/`rel_vel`: cage centre relative to the guiding ring centre (only Y, Z used).
 #[inline]
-pub fn land_force(p: &LandParams, rel_pos: &Vector3<f64>, rel_vel: &Vector3<f64>, cage_spin: f64, ring_spin: f64) -> LandResult {
+pub fn land_force(
+    p: &LandParams,
+    rel_pos: &Vector3<f64>,
+    rel_vel: &Vector3<f64>,
+    cage_spin: f64,
+    ring_spin: f64,
+) -> LandResult {
     let e = (rel_pos.y * rel_pos.y + rel_pos.z * rel_pos.z).sqrt();
     let c = p.clearance;
     let eps = e / c;
@@ -61,13 +73,13 @@ pub fn land_force(p: &LandParams, rel_pos: &Vector3<f64>, rel_vel: &Vector3<f64>
         let u = (cage_spin + ring_spin) * r;
         let k0 = eta * l * l * l / (c * c);
         let w_r = k0 * u.abs() * eh * eh / (one * one);
-        let w_t = 0.25 * PI * k0 * u * eh / one.powf(1.5);
+        let w_t = 0.25 * PI * k0 * u * eh * eh / one.powf(1.5);
         let de = eh_hat.dot(rel_vel) / c;
         let w_sq = 0.5 * PI * k0 * r * (1.0 + 2.0 * eh * eh) * de / one.powf(2.5);
         force += -(w_r + w_sq) * eh_hat + w_t * t_hat;
         let pen = e - c * eps_crit;
         if pen > 0.0 {
-            let fc = p.contact_stiffness * pen;
+            let fc = (p.contact_stiffness * pen + p.contact_damping * eh_hat.dot(rel_vel)).max(0.0);
             force -= fc * eh_hat;
             // cage rim slides on the land at (w_cage - w_ring) R along t_hat
             let slide = dw * r;
@@ -76,5 +88,9 @@ pub fn land_force(p: &LandParams, rel_pos: &Vector3<f64>, rel_vel: &Vector3<f64>
             torque += fr * r;
         }
     }
-    LandResult { eccentricity_ratio: eps, force_on_cage: force, torque_on_cage: torque }
+    LandResult {
+        eccentricity_ratio: eps,
+        force_on_cage: force,
+        torque_on_cage: torque,
+    }
 }

@@ -26,6 +26,9 @@ pub struct PocketParams {
     pub ball_radius: f64,
     /// Coulomb friction coefficient in Hertzian contact, -.
     pub friction: f64,
+    /// Normal damping ratio of the Hertzian contact, -, and the mass it is scaled with, kg.
+    pub damping_ratio: f64,
+    pub damping_mass: f64,
 }
 
 /// Motion of the cage.
@@ -62,7 +65,14 @@ const FRICTION_REGULARIZATION: f64 = 1e-2;
 
 /// Interaction of a ball with pocket `k` at body angle `pocket_angle`.
 #[inline]
-pub fn pocket_contact(p: &PocketParams, cage: &CageMotion, pocket_angle: f64, ball_centre: &Vector3<f64>, ball_velocity: &Vector3<f64>, ball_omega: &Vector3<f64>) -> PocketResult {
+pub fn pocket_contact(
+    p: &PocketParams,
+    cage: &CageMotion,
+    pocket_angle: f64,
+    ball_centre: &Vector3<f64>,
+    ball_velocity: &Vector3<f64>,
+    ball_omega: &Vector3<f64>,
+) -> PocketResult {
     let th = cage.spin_angle + pocket_angle;
     let (s, c) = th.sin_cos();
     let axis = cage.rot * Vector3::new(0.0, -s, c);
@@ -73,7 +83,10 @@ pub fn pocket_contact(p: &PocketParams, cage: &CageMotion, pocket_angle: f64, ba
     let dist = w_perp.norm();
     // eq. 21
     let film = p.clearance - dist;
-    let mut out = PocketResult { film, ..Default::default() };
+    let mut out = PocketResult {
+        film,
+        ..Default::default()
+    };
     if dist < 1e-12 {
         return out;
     }
@@ -85,9 +98,17 @@ pub fn pocket_contact(p: &PocketParams, cage: &CageMotion, pocket_angle: f64, ba
     // film shrinks when the ball centre moves away from the pocket axis
     let dfilm = -n.dot(&(ball_velocity - v_cage_pt));
     let h_eff = film.max(p.critical_film);
-    let squeeze = (6.0 * PI * p.viscosity * p.ball_radius * p.ball_radius * (-dfilm) / h_eff).max(0.0);
+    let squeeze =
+        (6.0 * PI * p.viscosity * p.ball_radius * p.ball_radius * (-dfilm) / h_eff).max(0.0);
     let pen = p.critical_film - film;
-    let hertz = if pen > 0.0 { p.hertz.k * pen * pen.sqrt() } else { 0.0 };
+    let hertz = if pen > 0.0 {
+        // Hertz plus film damping on the approach speed (as for the race contacts)
+        let sq = pen.sqrt();
+        let c = 2.0 * p.damping_ratio * (1.5 * p.hertz.k * sq * p.damping_mass).sqrt();
+        (p.hertz.k * pen * sq + c * (-dfilm)).max(0.0)
+    } else {
+        0.0
+    };
     let normal = squeeze + hertz;
     if normal == 0.0 {
         return out;

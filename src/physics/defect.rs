@@ -58,18 +58,30 @@ pub fn defect_effect(s: f64, width: f64, depth: f64, rx: f64, ball_radius: f64) 
     let geometric = rx - (rx * rx - d * d).max(0.0).sqrt();
     if geometric >= depth {
         // rests on the bottom: load stays normal
-        DefectEffect { drop: depth, psi: 0.0 }
+        DefectEffect {
+            drop: depth,
+            psi: 0.0,
+        }
     } else {
         // rests on the nearer edge; it pushes the ball away from itself
         let psi = (d / ball_radius).min(1.0).asin();
-        DefectEffect { drop: geometric, psi: -s.signum() * psi }
+        DefectEffect {
+            drop: geometric,
+            psi: -s.signum() * psi,
+        }
     }
 }
 
 /// Combined effect of every defect of a race on a ball at ring-frame azimuth
 /// `theta_body` (already relative to the ring's spin), contact-path radius `r_path`.
 #[inline]
-pub fn race_defects_effect(defects: &[RaceDefect], theta_body: f64, r_path: f64, rx: f64, ball_radius: f64) -> DefectEffect {
+pub fn race_defects_effect(
+    defects: &[RaceDefect],
+    theta_body: f64,
+    r_path: f64,
+    rx: f64,
+    ball_radius: f64,
+) -> DefectEffect {
     let mut out = DefectEffect::default();
     for d in defects {
         let dtheta = wrap_angle(theta_body - d.angle);

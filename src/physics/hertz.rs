@@ -93,7 +93,11 @@ pub fn exact(rx: f64, ry: f64, e_prime: f64) -> HertzContact {
     let a = (3.0 * ry * (kk - ee) / (PI * e_star * m)).cbrt();
     let b = a / kappa;
     let delta = 3.0 * kk / (2.0 * PI * a * e_star);
-    HertzContact { k: 1.0 / delta.powf(1.5), a_coef: a, b_coef: b }
+    HertzContact {
+        k: 1.0 / delta.powf(1.5),
+        a_coef: a,
+        b_coef: b,
+    }
 }
 
 /// Normal load for deflection `delta`, N (zero when not in contact).
@@ -138,11 +142,18 @@ mod tests {
         let d = 5.556e-3;
         let gamma = d * 15f64.to_radians().cos() / 35.9935e-3;
         let ep = effective_modulus(208e9, 0.3, 208e9, 0.3);
-        for (rx, f) in [(0.5 * d * (1.0 - gamma), 0.53), (0.5 * d * (1.0 + gamma), 0.536)] {
+        for (rx, f) in [
+            (0.5 * d * (1.0 - gamma), 0.53),
+            (0.5 * d * (1.0 + gamma), 0.536),
+        ] {
             let ry = f * d / (2.0 * f - 1.0);
             let hb = hamrock_brewe(rx, ry, ep);
             let ex = exact(rx, ry, ep);
-            for (name, x, y) in [("K", hb.k, ex.k), ("a", hb.a_coef, ex.a_coef), ("b", hb.b_coef, ex.b_coef)] {
+            for (name, x, y) in [
+                ("K", hb.k, ex.k),
+                ("a", hb.a_coef, ex.a_coef),
+                ("b", hb.b_coef, ex.b_coef),
+            ] {
                 let rel = (x - y).abs() / y;
                 assert!(rel < 0.02, "{name}: HB {x:e} exact {y:e} rel {rel}");
             }

@@ -97,7 +97,11 @@ pub struct ContactResult {
 /// Geometry only (eqs. 2-7): deformation, contact angle, azimuth and the unit normal
 /// from the curvature centre through the ball centre (inertial).
 #[inline]
-pub fn contact_geometry(race: &Race, ring: &RingMotion, ball_centre: &Vector3<f64>) -> (f64, f64, f64, Vector3<f64>, Vector3<f64>) {
+pub fn contact_geometry(
+    race: &Race,
+    ring: &RingMotion,
+    ball_centre: &Vector3<f64>,
+) -> (f64, f64, f64, Vector3<f64>, Vector3<f64>) {
     // eq. 2: ball relative to the ring, in ring (tilt) coordinates
     let p = ring.rot.transpose() * (ball_centre - ring.centre);
     // eq. 3
@@ -112,23 +116,43 @@ pub fn contact_geometry(race: &Race, ring: &RingMotion, ball_centre: &Vector3<f6
     let delta = dist - race.free_distance;
     // eq. 5: the normal points from ball centre to contact; for the outer race that is
     // (sin a, cos a) in (axial, radial), for the inner race -(sin a, cos a).
-    let alpha = if race.inner { (-dx).atan2(-dr) } else { dx.atan2(dr) };
+    let alpha = if race.inner {
+        (-dx).atan2(-dr)
+    } else {
+        dx.atan2(dr)
+    };
     let u_body = Vector3::new(dx / dist, -s * dr / dist, c * dr / dist);
     let t_body = Vector3::new(0.0, -c, -s);
     (delta, alpha, theta, ring.rot * u_body, ring.rot * t_body)
 }
 
 /// Full contact: Hertz load with damping, defect modification, traction by strips.
-pub fn race_contact(race: &Race, ring: &RingMotion, ball: &BallMotion, p: &ContactParams) -> ContactResult {
+pub fn race_contact(
+    race: &Race,
+    ring: &RingMotion,
+    ball: &BallMotion,
+    p: &ContactParams,
+) -> ContactResult {
     let (delta0, alpha, theta, u, t) = contact_geometry(race, ring, &ball.centre);
-    let mut out = ContactResult { alpha, azimuth: theta, delta: delta0, ..Default::default() };
+    let mut out = ContactResult {
+        alpha,
+        azimuth: theta,
+        delta: delta0,
+        ..Default::default()
+    };
     if delta0 <= 0.0 {
         return out;
     }
     let eff = if race.defects.is_empty() {
         Default::default()
     } else {
-        race_defects_effect(&race.defects, theta - ring.spin_angle, race.path_radius, race.rx, race.ball_radius)
+        race_defects_effect(
+            &race.defects,
+            theta - ring.spin_angle,
+            race.path_radius,
+            race.rx,
+            race.ball_radius,
+        )
     };
     let delta = delta0 - eff.drop;
     out.delta = delta;

@@ -44,7 +44,12 @@ mod tests {
     #[test]
     fn curve_is_continuous_and_peaks_where_designed() {
         // ADORE sample deck: peak 0.05 at 1 m/s, tends to 0.036.
-        let t = TractionCurve { a: -0.036, b: 0.1018, c: 1.547, d: 0.036 };
+        let t = TractionCurve {
+            a: -0.036,
+            b: 0.1018,
+            c: 1.547,
+            d: 0.036,
+        };
         assert!(t.mu(0.0).abs() < 1e-12);
         assert!((t.mu(1.0) - 0.05).abs() < 2e-4, "{}", t.mu(1.0));
         assert!((t.mu(50.0) - 0.036).abs() < 1e-6);

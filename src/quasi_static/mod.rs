@@ -8,8 +8,8 @@ use crate::physics::frames::{e_r, tilt_matrix, to_azimuth};
 use crate::physics::hertz;
 use crate::physics::race_contact::{contact_geometry, RingMotion};
 use crate::scene::Scene;
-use nalgebra::Vector3;
 use crate::simulation::SimError;
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// Equilibrium of one ball.
@@ -59,7 +59,10 @@ pub struct QuasiStaticSolution {
 pub fn solve(scene: &Scene, shaft_rpm: f64) -> Result<QuasiStaticSolution, SimError> {
     scene.validate()?;
     if !(shaft_rpm.is_finite() && shaft_rpm >= 0.0) {
-        return Err(SimError::Numerical { time: 0.0, message: format!("shaft speed {shaft_rpm} rev/min must be finite and >= 0") });
+        return Err(SimError::Numerical {
+            time: 0.0,
+            message: format!("shaft speed {shaft_rpm} rev/min must be finite and >= 0"),
+        });
     }
     let model = Model::new(scene);
     let w = shaft_rpm * 2.0 * std::f64::consts::PI / 60.0;
@@ -103,17 +106,40 @@ fn ring_unknowns(m: &Model) -> usize {
 }
 
 fn inner_ring(m: &Model, u: &[f64], w: f64) -> RingMotion {
-    let rot = if m.tilt_free { tilt_matrix(u[3], u[4]) } else { nalgebra::Matrix3::identity() };
-    RingMotion { centre: Vector3::new(u[0], u[1], u[2]), rot, velocity: Vector3::zeros(), spin: w, spin_angle: 0.0 }
+    let rot = if m.tilt_free {
+        tilt_matrix(u[3], u[4])
+    } else {
+        nalgebra::Matrix3::identity()
+    };
+    RingMotion {
+        centre: Vector3::new(u[0], u[1], u[2]),
+        rot,
+        velocity: Vector3::zeros(),
+        spin: w,
+        spin_angle: 0.0,
+    }
 }
 
 fn outer_ring() -> RingMotion {
-    RingMotion { centre: Vector3::zeros(), rot: nalgebra::Matrix3::identity(), velocity: Vector3::zeros(), spin: 0.0, spin_angle: 0.0 }
+    RingMotion {
+        centre: Vector3::zeros(),
+        rot: nalgebra::Matrix3::identity(),
+        velocity: Vector3::zeros(),
+        spin: 0.0,
+        spin_angle: 0.0,
+    }
 }
 
 /// Forces on one ball at azimuth `th` and position (x, r): residual in (axial, radial),
 /// the force the inner race takes, and the details.
-fn ball_forces(m: &Model, inner: &RingMotion, w: f64, th: f64, x: f64, r: f64) -> ([f64; 2], Vector3<f64>, Vector3<f64>, Eval, [f64; 3]) {
+fn ball_forces(
+    m: &Model,
+    inner: &RingMotion,
+    w: f64,
+    th: f64,
+    x: f64,
+    r: f64,
+) -> ([f64; 2], Vector3<f64>, Vector3<f64>, Eval, [f64; 3]) {
     let rb = 0.5 * m.ball_diameter;
     let er = e_r(th);
     let centre = Vector3::new(x, 0.0, 0.0) + r * er;
@@ -122,20 +148,35 @@ fn ball_forces(m: &Model, inner: &RingMotion, w: f64, th: f64, x: f64, r: f64) -
     let qi = hertz::load(m.inner_race.hertz.k, di);
     let qo = hertz::load(m.outer_race.hertz.k, do_);
     let loaded = qi > 0.0 && qo > 0.0;
-    let (ai_k, ao_k) = if loaded { (ai, ao) } else { (m.free_contact_angle, m.free_contact_angle) };
+    let (ai_k, ao_k) = if loaded {
+        (ai, ao)
+    } else {
+        (m.free_contact_angle, m.free_contact_angle)
+    };
     let kin = rolling_kinematics(r, ai_k, ao_k, rb, w);
     let [thd, _wx, wr] = kin;
     let fc = m.ball_mass * r * thd * thd;
     // outer-race control: the outer contact's friction supplies the gyroscopic moment
     // (an unloaded ball has no rolling to speak of and carries none)
-    let gyro = if loaded { -m.ball_inertia * thd * wr / rb } else { 0.0 };
+    let gyro = if loaded {
+        -m.ball_inertia * thd * wr / rb
+    } else {
+        0.0
+    };
     let f_i = -qi * ui;
     let f_o = -qo * uo;
     let s_o = Vector3::new(ao.cos(), 0.0, 0.0) + (-ao.sin()) * er;
     let f_ball = f_i + f_o + gyro * s_o + fc * er;
     let fa = to_azimuth(&f_ball, th);
     let contact = centre + rb * ui - inner.centre;
-    let ev = Eval { inner_load: qi, outer_load: qo, inner_alpha: ai, outer_alpha: ao, centrifugal: fc, gyro: gyro.abs() * rb };
+    let ev = Eval {
+        inner_load: qi,
+        outer_load: qo,
+        inner_alpha: ai,
+        outer_alpha: ao,
+        centrifugal: fc,
+        gyro: gyro.abs() * rb,
+    };
     ([fa.x, fa.y], f_i, contact, ev, kin)
 }
 
@@ -157,7 +198,10 @@ fn solve_ball(m: &Model, inner: &RingMotion, w: f64, th: f64, warm: Option<[f64;
     // compliance, or from the previous solution.
     let start = warm.unwrap_or_else(|| {
         let rot = inner.rot;
-        let ci = inner.centre + rot * (Vector3::new(m.inner_race.centre_axial, 0.0, 0.0) + m.inner_race.centre_radius * er);
+        let ci = inner.centre
+            + rot
+                * (Vector3::new(m.inner_race.centre_axial, 0.0, 0.0)
+                    + m.inner_race.centre_radius * er);
         let dvec = ci - co;
         let dist = dvec.norm();
         let overlap = dist - (m.inner_race.free_distance + m.outer_race.free_distance);
@@ -176,8 +220,15 @@ fn solve_ball(m: &Model, inner: &RingMotion, w: f64, th: f64, warm: Option<[f64;
         }
         let (rx, ..) = ball_forces(m, inner, w, th, p[0] + h, p[1]);
         let (rr, ..) = ball_forces(m, inner, w, th, p[0], p[1] + h);
-        let j = nalgebra::Matrix2::new((rx[0] - r0[0]) / h, (rr[0] - r0[0]) / h, (rx[1] - r0[1]) / h, (rr[1] - r0[1]) / h);
-        let Some(step) = j.lu().solve(&nalgebra::Vector2::new(-r0[0], -r0[1])) else { break };
+        let j = nalgebra::Matrix2::new(
+            (rx[0] - r0[0]) / h,
+            (rr[0] - r0[0]) / h,
+            (rx[1] - r0[1]) / h,
+            (rr[1] - r0[1]) / h,
+        );
+        let Some(step) = j.lu().solve(&nalgebra::Vector2::new(-r0[0], -r0[1])) else {
+            break;
+        };
         // backtracking keeps the Newton step from overshooting the Hertz kink
         let mut lam = 1.0;
         let mut moved = false;
@@ -199,7 +250,13 @@ fn solve_ball(m: &Model, inner: &RingMotion, w: f64, th: f64, warm: Option<[f64;
 }
 
 /// Ball positions for a ring position, and the ring's force (and moment) residual.
-fn ring_residual(m: &Model, w: f64, u: &[f64], warm: &[[f64; 2]], balls: &mut Vec<[f64; 2]>) -> [f64; 5] {
+fn ring_residual(
+    m: &Model,
+    w: f64,
+    u: &[f64],
+    warm: &[[f64; 2]],
+    balls: &mut Vec<[f64; 2]>,
+) -> [f64; 5] {
     let inner = inner_ring(m, u, w);
     let mut f_ring = Vector3::new(m.applied_force[0], m.applied_force[1], m.applied_force[2]);
     let mut m_ring = Vector3::new(0.0, m.applied_moment[0], m.applied_moment[1]);
@@ -221,7 +278,17 @@ pub fn rolling_kinematics(r: f64, alpha_i: f64, alpha_o: f64, rb: f64, w_inner: 
     let (pix, pir) = (-rb * alpha_i.sin(), -rb * alpha_i.cos());
     let (pox, por) = (rb * alpha_o.sin(), rb * alpha_o.cos());
     // unknowns (thd, wx, wr): tangential surface speeds match the races
-    let a = nalgebra::Matrix3::new(r, pir, -pix, r, por, -pox, 0.0, alpha_o.sin(), alpha_o.cos());
+    let a = nalgebra::Matrix3::new(
+        r,
+        pir,
+        -pix,
+        r,
+        por,
+        -pox,
+        0.0,
+        alpha_o.sin(),
+        alpha_o.cos(),
+    );
     let b = Vector3::new(w_inner * (r + pir), 0.0, 0.0);
     let x = a.lu().solve(&b).unwrap_or_else(Vector3::zeros);
     [x[0], x[1], x[2]]
@@ -234,7 +301,9 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
     let mut u = initial_guess(m);
     let mut balls = Vec::new();
     let mut trial_balls = Vec::new();
-    let fref = (m.applied_force.iter().map(|f| f * f).sum::<f64>()).sqrt().max(1.0);
+    let fref = (m.applied_force.iter().map(|f| f * f).sum::<f64>())
+        .sqrt()
+        .max(1.0);
     let tol = 1e-10 * fref;
     let mut res = ring_residual(m, w, &u, &[], &mut balls);
     let norm = |r: &[f64; 5]| r[..nr].iter().map(|x| x * x).sum::<f64>();
@@ -302,7 +371,13 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
         .zip(&balls)
         .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).4)
         .collect();
-    Ok(QsState { ring: u, balls, kinematics, iterations, residual })
+    Ok(QsState {
+        ring: u,
+        balls,
+        kinematics,
+        iterations,
+        residual,
+    })
 }
 
 /// Rigid guess for the inner ring from a stiffness estimate.
@@ -310,7 +385,8 @@ fn initial_guess(m: &Model) -> [f64; 5] {
     let mut u = [0.0; 5];
     let z = m.z as f64;
     let a0 = m.free_contact_angle;
-    let kn = (m.inner_race.hertz.k.powf(-2.0 / 3.0) + m.outer_race.hertz.k.powf(-2.0 / 3.0)).powf(-1.5);
+    let kn =
+        (m.inner_race.hertz.k.powf(-2.0 / 3.0) + m.outer_race.hertz.k.powf(-2.0 / 3.0)).powf(-1.5);
     let fa = m.applied_force[0].abs();
     let fr = (m.applied_force[1].powi(2) + m.applied_force[2].powi(2)).sqrt();
     let q = (fa / (z * a0.sin().max(0.1)) + 2.5 * fr / z).max(1.0);
@@ -326,11 +402,29 @@ fn initial_guess(m: &Model) -> [f64; 5] {
 impl QsState {
     fn to_solution(&self, m: &Model, w: f64) -> QuasiStaticSolution {
         let inner = inner_ring(m, &self.ring, w);
-        let ev: Vec<Eval> = azimuths(m).into_iter().zip(&self.balls).map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).3).collect();
-        let loaded: Vec<&[f64; 3]> = self.kinematics.iter().zip(&ev).filter(|(_, e)| e.inner_load > 0.0).map(|(k, _)| k).collect();
-        let pick = if loaded.is_empty() { self.kinematics.iter().collect() } else { loaded };
+        let ev: Vec<Eval> = azimuths(m)
+            .into_iter()
+            .zip(&self.balls)
+            .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).3)
+            .collect();
+        let loaded: Vec<&[f64; 3]> = self
+            .kinematics
+            .iter()
+            .zip(&ev)
+            .filter(|(_, e)| e.inner_load > 0.0)
+            .map(|(k, _)| k)
+            .collect();
+        let pick = if loaded.is_empty() {
+            self.kinematics.iter().collect()
+        } else {
+            loaded
+        };
         let cage = pick.iter().map(|k| k[0]).sum::<f64>() / pick.len() as f64;
-        let spin = pick.iter().map(|k| (k[1] * k[1] + k[2] * k[2]).sqrt()).sum::<f64>() / pick.len() as f64;
+        let spin = pick
+            .iter()
+            .map(|k| (k[1] * k[1] + k[2] * k[2]).sqrt())
+            .sum::<f64>()
+            / pick.len() as f64;
         QuasiStaticSolution {
             shaft_speed: w,
             inner_ring_displacement: [self.ring[0], self.ring[1], self.ring[2]],

@@ -9,7 +9,9 @@
 mod presets;
 mod validate;
 
-pub use presets::{fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase, Table2Group};
+pub use presets::{
+    fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase, Table2Group,
+};
 pub use validate::{FieldError, ValidationErrors};
 
 use serde::{Deserialize, Serialize};
@@ -138,7 +140,12 @@ pub enum Traction {
     Abcd { a: f64, b: f64, c: f64, d: f64 },
     /// ADORE-style description: mu at zero slip, peak value, value at large slip (all -)
     /// and the slip speed of the peak u_m (m/s). Converted to `Abcd`.
-    Adore { mu0: f64, mu_max: f64, mu_inf: f64, u_m: f64 },
+    Adore {
+        mu0: f64,
+        mu_max: f64,
+        mu_inf: f64,
+        u_m: f64,
+    },
 }
 
 /// Operating conditions.
@@ -285,7 +292,8 @@ pub struct Outputs {
 impl Scene {
     /// Parse and validate a scene from JSON text.
     pub fn from_json(text: &str) -> Result<Scene, ValidationErrors> {
-        let scene: Scene = serde_json::from_str(text).map_err(|e| ValidationErrors::from_serde(&e))?;
+        let scene: Scene =
+            serde_json::from_str(text).map_err(|e| ValidationErrors::from_serde(&e))?;
         scene.validate()?;
         Ok(scene)
     }
@@ -296,7 +304,12 @@ impl Traction {
     pub fn abcd(&self) -> (f64, f64, f64, f64) {
         match *self {
             Traction::Abcd { a, b, c, d } => (a, b, c, d),
-            Traction::Adore { mu0, mu_max, mu_inf, u_m } => adore_to_abcd(mu0, mu_max, mu_inf, u_m),
+            Traction::Adore {
+                mu0,
+                mu_max,
+                mu_inf,
+                u_m,
+            } => adore_to_abcd(mu0, mu_max, mu_inf, u_m),
         }
     }
 }

@@ -29,7 +29,9 @@ impl std::str::FromStr for FaultCase {
             "inner" => Ok(FaultCase::Inner),
             "outer" => Ok(FaultCase::Outer),
             "compound" => Ok(FaultCase::Compound),
-            _ => Err(format!("unknown fault case '{s}': expected none, inner, outer or compound")),
+            _ => Err(format!(
+                "unknown fault case '{s}': expected none, inner, outer or compound"
+            )),
         }
     }
 }
@@ -87,20 +89,34 @@ pub fn fault_case_scene(name: &str, case: FaultCase) -> Option<Scene> {
     let load_zone = scene.operating.radial_load_angle;
     // Table 1: inner defect 0.2 mm diameter, 0.1 mm deep; outer defect depth 0.1 mm, its
     // diameter is blank in the table: 0.2 mm is taken (same as the inner one).
-    let inner = Fault { ring: Ring::Inner, angle: load_zone, width: 0.2e-3, depth: 0.1e-3 };
-    let outer = Fault { ring: Ring::Outer, angle: load_zone, width: 0.2e-3, depth: 0.1e-3 };
+    let inner = Fault {
+        ring: Ring::Inner,
+        angle: load_zone,
+        width: 0.2e-3,
+        depth: 0.1e-3,
+    };
+    let outer = Fault {
+        ring: Ring::Outer,
+        angle: load_zone,
+        width: 0.2e-3,
+        depth: 0.1e-3,
+    };
     scene.faults = match case {
         FaultCase::None => vec![],
         FaultCase::Inner => vec![inner],
         FaultCase::Outer => vec![outer],
         FaultCase::Compound => vec![inner, outer],
     };
-    scene.name = format!("{} {}", scene.name, match case {
-        FaultCase::None => "no fault",
-        FaultCase::Inner => "inner-ring fault",
-        FaultCase::Outer => "outer-ring fault",
-        FaultCase::Compound => "compound inner+outer fault",
-    });
+    scene.name = format!(
+        "{} {}",
+        scene.name,
+        match case {
+            FaultCase::None => "no fault",
+            FaultCase::Inner => "inner-ring fault",
+            FaultCase::Outer => "outer-ring fault",
+            FaultCase::Compound => "compound inner+outer fault",
+        }
+    );
     Some(scene)
 }
 
@@ -153,10 +169,22 @@ fn h7005c() -> Scene {
         },
         materials: Materials {
             // GCr15 (AISI 52100) bearing steel; density from Table 1.
-            rings: Material { youngs_modulus: 208e9, poisson_ratio: 0.3, density: 7830.0 },
-            balls: Material { youngs_modulus: 208e9, poisson_ratio: 0.3, density: 7830.0 },
+            rings: Material {
+                youngs_modulus: 208e9,
+                poisson_ratio: 0.3,
+                density: 7830.0,
+            },
+            balls: Material {
+                youngs_modulus: 208e9,
+                poisson_ratio: 0.3,
+                density: 7830.0,
+            },
             // Cotton-fabric phenolic laminate; density 1.3 g/cm^3 from Table 1.
-            cage: Material { youngs_modulus: 7.0e9, poisson_ratio: 0.35, density: 1300.0 },
+            cage: Material {
+                youngs_modulus: 7.0e9,
+                poisson_ratio: 0.35,
+                density: 1300.0,
+            },
         },
         lubricant: Lubricant {
             // Table 1 gives 5.1 mm^2/s (a kinematic viscosity); times a base-oil density of
@@ -164,7 +192,12 @@ fn h7005c() -> Scene {
             dynamic_viscosity: 5.1e-6 * 870.0,
             // ADORE sample deck (MIL-L-23699): mu0 0, mu_max 0.05 at 1 m/s, mu_inf 0.036.
             // mu(0) = 0 keeps traction continuous through zero slip.
-            traction: Traction::Abcd { a: -0.036, b: 0.1018, c: 1.547, d: 0.036 },
+            traction: Traction::Abcd {
+                a: -0.036,
+                b: 0.1018,
+                c: 1.547,
+                d: 0.036,
+            },
             critical_film_ball_cage: 0.8e-6,
             critical_film_cage_land: 3.0e-6,
             cage_friction: 0.08,
@@ -173,7 +206,11 @@ fn h7005c() -> Scene {
             contact_damping_ratio: 0.05,
         },
         operating: Operating {
-            speed: SpeedProfile { initial_rpm: 1000.0, steady_rpm: 10000.0, ramp_time: 0.1 },
+            speed: SpeedProfile {
+                initial_rpm: 1000.0,
+                steady_rpm: 10000.0,
+                ramp_time: 0.1,
+            },
             radial_load: 300.0,
             radial_load_angle: 0.0,
             axial_load: 100.0,
@@ -193,7 +230,10 @@ fn h7005c() -> Scene {
             },
         },
         faults: vec![],
-        solver: Solver { duration: 0.5, ..Solver::default() },
+        solver: Solver {
+            duration: 0.5,
+            ..Solver::default()
+        },
         outputs: Outputs::default(),
     }
 }
@@ -223,8 +263,14 @@ mod tests {
     fn fault_cases_place_defects_in_load_zone() {
         let s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
         assert_eq!(s.faults.len(), 2);
-        assert!(s.faults.iter().all(|f| f.angle == s.operating.radial_load_angle));
-        assert!(fault_case_scene("h7005c", FaultCase::None).unwrap().faults.is_empty());
+        assert!(s
+            .faults
+            .iter()
+            .all(|f| f.angle == s.operating.radial_load_angle));
+        assert!(fault_case_scene("h7005c", FaultCase::None)
+            .unwrap()
+            .faults
+            .is_empty());
         assert_eq!(table2_groups().len(), 9);
     }
 }

@@ -34,7 +34,10 @@ impl std::error::Error for ValidationErrors {}
 impl ValidationErrors {
     /// A JSON parse or type error, reported against the field serde names.
     pub fn from_serde(e: &serde_json::Error) -> Self {
-        ValidationErrors(vec![FieldError { path: "$".into(), message: e.to_string() }])
+        ValidationErrors(vec![FieldError {
+            path: "$".into(),
+            message: e.to_string(),
+        }])
     }
 }
 
@@ -44,7 +47,10 @@ struct Checker {
 
 impl Checker {
     fn push(&mut self, path: &str, message: impl Into<String>) {
-        self.errs.push(FieldError { path: path.to_string(), message: message.into() });
+        self.errs.push(FieldError {
+            path: path.to_string(),
+            message: message.into(),
+        });
     }
     /// Finite and strictly positive.
     fn pos(&mut self, path: &str, v: f64, unit: &str) -> bool {
@@ -100,10 +106,24 @@ impl Scene {
         geom_ok &= c.pos("bearing.bore_diameter", b.bore_diameter, "m");
         geom_ok &= c.pos("bearing.outer_diameter", b.outer_diameter, "m");
         geom_ok &= c.pos("bearing.width", b.width, "m");
-        geom_ok &= c.pos("bearing.inner_groove_diameter", b.inner_groove_diameter, "m");
-        geom_ok &= c.pos("bearing.outer_groove_diameter", b.outer_groove_diameter, "m");
+        geom_ok &= c.pos(
+            "bearing.inner_groove_diameter",
+            b.inner_groove_diameter,
+            "m",
+        );
+        geom_ok &= c.pos(
+            "bearing.outer_groove_diameter",
+            b.outer_groove_diameter,
+            "m",
+        );
         geom_ok &= c.pos("bearing.ball_diameter", b.ball_diameter, "m");
-        geom_ok &= c.range("bearing.contact_angle", b.contact_angle, -1e-12, 0.5 * std::f64::consts::PI, "rad");
+        geom_ok &= c.range(
+            "bearing.contact_angle",
+            b.contact_angle,
+            -1e-12,
+            0.5 * std::f64::consts::PI,
+            "rad",
+        );
         geom_ok &= c.pos("bearing.inner_land_diameter", b.inner_land_diameter, "m");
         geom_ok &= c.pos("bearing.outer_land_diameter", b.outer_land_diameter, "m");
         geom_ok &= c.pos("bearing.cage.inner_diameter", b.cage.inner_diameter, "m");
@@ -126,10 +146,16 @@ impl Scene {
                 c.push(path, "must be a finite number");
                 geom_ok = false;
             } else if f <= 0.5 {
-                c.push(path, "must be > 0.5 (groove radius larger than the ball radius)");
+                c.push(
+                    path,
+                    "must be > 0.5 (groove radius larger than the ball radius)",
+                );
                 geom_ok = false;
             } else if f >= 1.0 {
-                c.push(path, "must be < 1.0 (a groove that shallow cannot carry a ball)");
+                c.push(
+                    path,
+                    "must be < 1.0 (a groove that shallow cannot carry a ball)",
+                );
                 geom_ok = false;
             }
         }
@@ -137,18 +163,45 @@ impl Scene {
             check_geometry(&mut c, self);
         }
 
-        for (name, m) in [("rings", &self.materials.rings), ("balls", &self.materials.balls), ("cage", &self.materials.cage)] {
-            c.pos(&format!("materials.{name}.youngs_modulus"), m.youngs_modulus, "Pa");
-            c.range(&format!("materials.{name}.poisson_ratio"), m.poisson_ratio, -1.0, 0.5, "-");
+        for (name, m) in [
+            ("rings", &self.materials.rings),
+            ("balls", &self.materials.balls),
+            ("cage", &self.materials.cage),
+        ] {
+            c.pos(
+                &format!("materials.{name}.youngs_modulus"),
+                m.youngs_modulus,
+                "Pa",
+            );
+            c.range(
+                &format!("materials.{name}.poisson_ratio"),
+                m.poisson_ratio,
+                -1.0,
+                0.5,
+                "-",
+            );
             c.pos(&format!("materials.{name}.density"), m.density, "kg/m^3");
         }
 
         let l = &self.lubricant;
         c.pos("lubricant.dynamic_viscosity", l.dynamic_viscosity, "Pa s");
-        c.pos("lubricant.critical_film_ball_cage", l.critical_film_ball_cage, "m");
-        c.pos("lubricant.critical_film_cage_land", l.critical_film_cage_land, "m");
+        c.pos(
+            "lubricant.critical_film_ball_cage",
+            l.critical_film_ball_cage,
+            "m",
+        );
+        c.pos(
+            "lubricant.critical_film_cage_land",
+            l.critical_film_cage_land,
+            "m",
+        );
         c.nonneg("lubricant.cage_friction", l.cage_friction, "-");
-        if c.nonneg("lubricant.contact_damping_ratio", l.contact_damping_ratio, "-") && l.contact_damping_ratio > 1.0 {
+        if c.nonneg(
+            "lubricant.contact_damping_ratio",
+            l.contact_damping_ratio,
+            "-",
+        ) && l.contact_damping_ratio > 1.0
+        {
             c.push("lubricant.contact_damping_ratio", "must be <= 1");
         }
         c.nonneg("operating.shaft_mass", o_shaft_mass(self), "kg");
@@ -159,22 +212,37 @@ impl Scene {
                     & c.nonneg("lubricant.traction.c", cc, "s/m")
                     & c.nonneg("lubricant.traction.d", d, "-");
                 if ok && a + d < -1e-12 {
-                    c.push("lubricant.traction.a", "a + d (traction at zero slip) must be >= 0");
+                    c.push(
+                        "lubricant.traction.a",
+                        "a + d (traction at zero slip) must be >= 0",
+                    );
                 }
             }
-            Traction::Adore { mu0, mu_max, mu_inf, u_m } => {
+            Traction::Adore {
+                mu0,
+                mu_max,
+                mu_inf,
+                u_m,
+            } => {
                 let ok = c.nonneg("lubricant.traction.mu0", mu0, "-")
                     & c.pos("lubricant.traction.mu_max", mu_max, "-")
                     & c.nonneg("lubricant.traction.mu_inf", mu_inf, "-")
                     & c.pos("lubricant.traction.u_m", u_m, "m/s");
                 if ok && !(mu_max > mu0 && mu_max > mu_inf) {
-                    c.push("lubricant.traction.mu_max", "must exceed mu0 and mu_inf (it is the peak of the curve)");
+                    c.push(
+                        "lubricant.traction.mu_max",
+                        "must exceed mu0 and mu_inf (it is the peak of the curve)",
+                    );
                 }
             }
         }
 
         let o = &self.operating;
-        c.nonneg("operating.speed.initial_rpm", o.speed.initial_rpm, "rev/min");
+        c.nonneg(
+            "operating.speed.initial_rpm",
+            o.speed.initial_rpm,
+            "rev/min",
+        );
         c.pos("operating.speed.steady_rpm", o.speed.steady_rpm, "rev/min");
         c.nonneg("operating.speed.ramp_time", o.speed.ramp_time, "s");
         if o.speed.steady_rpm.is_finite() && o.speed.steady_rpm > 100_000.0 {
@@ -182,11 +250,20 @@ impl Scene {
         }
         c.nonneg("operating.radial_load", o.radial_load, "N");
         c.finite("operating.radial_load_angle", o.radial_load_angle);
-        if c.nonneg("operating.axial_load", o.axial_load, "N") && o.axial_load == 0.0 && o.radial_load == 0.0 {
-            c.push("operating.axial_load", "radial and axial load cannot both be 0 N: the rings would be unloaded");
+        if c.nonneg("operating.axial_load", o.axial_load, "N")
+            && o.axial_load == 0.0
+            && o.radial_load == 0.0
+        {
+            c.push(
+                "operating.axial_load",
+                "radial and axial load cannot both be 0 N: the rings would be unloaded",
+            );
         }
         for (i, m) in o.applied_moment.iter().enumerate() {
-            if c.finite(&format!("operating.applied_moment[{i}]"), *m) && *m != 0.0 && o.inner_ring_tilt == TiltMode::Locked {
+            if c.finite(&format!("operating.applied_moment[{i}]"), *m)
+                && *m != 0.0
+                && o.inner_ring_tilt == TiltMode::Locked
+            {
                 c.push(&format!("operating.applied_moment[{i}]"), "needs operating.inner_ring_tilt = free (a locked ring cannot take an applied moment)");
             }
         }
@@ -206,14 +283,24 @@ impl Scene {
                 // A defect wider than the raceway (the groove arc a ball can touch, taken as
                 // the ball diameter) is no longer a localized defect.
                 if f.width >= b.ball_diameter {
-                    c.push(&format!("{base}.width"), format!("must be < the raceway width ({:.4e} m, the ball diameter)", b.ball_diameter));
+                    c.push(
+                        &format!("{base}.width"),
+                        format!(
+                            "must be < the raceway width ({:.4e} m, the ball diameter)",
+                            b.ball_diameter
+                        ),
+                    );
                 }
-                let r = 0.5 * match f.ring {
-                    Ring::Inner => b.inner_groove_diameter,
-                    Ring::Outer => b.outer_groove_diameter,
-                };
+                let r = 0.5
+                    * match f.ring {
+                        Ring::Inner => b.inner_groove_diameter,
+                        Ring::Outer => b.outer_groove_diameter,
+                    };
                 if f.width >= std::f64::consts::PI * r / b.ball_count as f64 {
-                    c.push(&format!("{base}.width"), "must be shorter than half the ball spacing on its raceway");
+                    c.push(
+                        &format!("{base}.width"),
+                        "must be shorter than half the ball spacing on its raceway",
+                    );
                 }
             }
         }
@@ -242,12 +329,18 @@ impl Scene {
             if s.sample_rate > 1.0e6 {
                 c.push("solver.sample_rate", "must be <= 1e6 Hz");
             } else if s.duration.is_finite() && s.duration * s.sample_rate > 5.0e6 {
-                c.push("solver.sample_rate", "duration * sample_rate must be <= 5e6 samples");
+                c.push(
+                    "solver.sample_rate",
+                    "duration * sample_rate must be <= 5e6 samples",
+                );
             }
         }
         if let Some(k) = self.outputs.contact_loads_ball {
             if k >= b.ball_count {
-                c.push("outputs.contact_loads_ball", format!("must be < bearing.ball_count ({})", b.ball_count));
+                c.push(
+                    "outputs.contact_loads_ball",
+                    format!("must be < bearing.ball_count ({})", b.ball_count),
+                );
             }
         }
 
@@ -269,20 +362,35 @@ fn check_geometry(c: &mut Checker, s: &Scene) {
     let d = b.ball_diameter;
     let z = b.ball_count as f64;
     if b.bore_diameter >= b.inner_groove_diameter {
-        c.push("bearing.inner_groove_diameter", "must exceed bearing.bore_diameter");
+        c.push(
+            "bearing.inner_groove_diameter",
+            "must exceed bearing.bore_diameter",
+        );
     }
     if b.outer_groove_diameter >= b.outer_diameter {
-        c.push("bearing.outer_groove_diameter", "must be below bearing.outer_diameter");
+        c.push(
+            "bearing.outer_groove_diameter",
+            "must be below bearing.outer_diameter",
+        );
     }
     let pd = b.outer_groove_diameter - b.inner_groove_diameter - 2.0 * d;
     if pd < 0.0 {
-        c.push("bearing.ball_diameter", format!("balls do not fit between the grooves: diametral clearance {pd:.3e} m < 0"));
+        c.push(
+            "bearing.ball_diameter",
+            format!("balls do not fit between the grooves: diametral clearance {pd:.3e} m < 0"),
+        );
         return;
     }
     let dm = 0.5 * (b.inner_groove_diameter + b.outer_groove_diameter);
     // Neighbouring balls on the pitch circle must not overlap: chord 2 (dm/2) sin(pi/Z) > D.
     if dm * (std::f64::consts::PI / z).sin() <= d {
-        c.push("bearing.ball_count", format!("{} balls of {:.4e} m do not fit on the {:.4e} m pitch circle", b.ball_count, d, dm));
+        c.push(
+            "bearing.ball_count",
+            format!(
+                "{} balls of {:.4e} m do not fit on the {:.4e} m pitch circle",
+                b.ball_count, d, dm
+            ),
+        );
     }
     // Free contact angle implied by clearance and conformity must match the stated one.
     let bsum = b.inner_groove_curvature + b.outer_groove_curvature - 1.0;
@@ -299,19 +407,31 @@ fn check_geometry(c: &mut Checker, s: &Scene) {
     }
     let cg = &b.cage;
     if cg.pocket_diameter <= d {
-        c.push("bearing.cage.pocket_diameter", "must exceed bearing.ball_diameter (the ball must fit its pocket)");
+        c.push(
+            "bearing.cage.pocket_diameter",
+            "must exceed bearing.ball_diameter (the ball must fit its pocket)",
+        );
     }
     if cg.inner_diameter >= cg.outer_diameter {
-        c.push("bearing.cage.inner_diameter", "must be below bearing.cage.outer_diameter");
+        c.push(
+            "bearing.cage.inner_diameter",
+            "must be below bearing.cage.outer_diameter",
+        );
     }
     // The pocket walls must reach the ball: the cage annulus has to overlap the ball's
     // radial span (H7005C's cage, 36-39.27 mm, sits just outside the 35.99 mm pitch circle).
     if cg.inner_diameter >= dm + d || cg.outer_diameter <= dm - d {
-        c.push("bearing.cage.inner_diameter", "the cage annulus does not overlap the balls radially");
+        c.push(
+            "bearing.cage.inner_diameter",
+            "the cage annulus does not overlap the balls radially",
+        );
     }
     // Pockets must leave cage material between them on the cage bore.
     if 0.5 * cg.inner_diameter * 2.0 * (std::f64::consts::PI / z).sin() <= cg.pocket_diameter {
-        c.push("bearing.cage.pocket_diameter", "pockets overlap each other on the cage bore");
+        c.push(
+            "bearing.cage.pocket_diameter",
+            "pockets overlap each other on the cage bore",
+        );
     }
     if cg.width <= cg.pocket_diameter {
         c.push("bearing.cage.width", "must exceed the pocket diameter");
@@ -320,33 +440,63 @@ fn check_geometry(c: &mut Checker, s: &Scene) {
         c.push("bearing.cage.width", "must not exceed bearing.width");
     }
     if b.inner_land_diameter <= b.inner_groove_diameter || b.inner_land_diameter >= dm {
-        c.push("bearing.inner_land_diameter", "must lie between the inner groove diameter and the pitch diameter");
+        c.push(
+            "bearing.inner_land_diameter",
+            "must lie between the inner groove diameter and the pitch diameter",
+        );
     }
     if b.outer_land_diameter >= b.outer_groove_diameter || b.outer_land_diameter <= dm {
-        c.push("bearing.outer_land_diameter", "must lie between the pitch diameter and the outer groove diameter");
+        c.push(
+            "bearing.outer_land_diameter",
+            "must lie between the pitch diameter and the outer groove diameter",
+        );
     }
     match cg.guidance {
         CageGuidance::OuterLand => {
             if cg.outer_diameter >= b.outer_land_diameter {
-                c.push("bearing.cage.outer_diameter", "must be below bearing.outer_land_diameter for an outer-land-guided cage");
+                c.push(
+                    "bearing.cage.outer_diameter",
+                    "must be below bearing.outer_land_diameter for an outer-land-guided cage",
+                );
             } else if (b.outer_land_diameter - cg.outer_diameter - cg.land_clearance).abs() > 1e-6 {
-                c.push("bearing.cage.land_clearance", format!("must equal outer_land_diameter - cage.outer_diameter = {:.4e} m", b.outer_land_diameter - cg.outer_diameter));
+                c.push(
+                    "bearing.cage.land_clearance",
+                    format!(
+                        "must equal outer_land_diameter - cage.outer_diameter = {:.4e} m",
+                        b.outer_land_diameter - cg.outer_diameter
+                    ),
+                );
             }
         }
         CageGuidance::InnerLand => {
             if cg.inner_diameter <= b.inner_land_diameter {
-                c.push("bearing.cage.inner_diameter", "must exceed bearing.inner_land_diameter for an inner-land-guided cage");
+                c.push(
+                    "bearing.cage.inner_diameter",
+                    "must exceed bearing.inner_land_diameter for an inner-land-guided cage",
+                );
             } else if (cg.inner_diameter - b.inner_land_diameter - cg.land_clearance).abs() > 1e-6 {
-                c.push("bearing.cage.land_clearance", format!("must equal cage.inner_diameter - inner_land_diameter = {:.4e} m", cg.inner_diameter - b.inner_land_diameter));
+                c.push(
+                    "bearing.cage.land_clearance",
+                    format!(
+                        "must equal cage.inner_diameter - inner_land_diameter = {:.4e} m",
+                        cg.inner_diameter - b.inner_land_diameter
+                    ),
+                );
             }
         }
         CageGuidance::Ball => {}
     }
     if cg.outer_diameter >= b.outer_land_diameter && cg.guidance != CageGuidance::OuterLand {
-        c.push("bearing.cage.outer_diameter", "cage would interfere with the outer land");
+        c.push(
+            "bearing.cage.outer_diameter",
+            "cage would interfere with the outer land",
+        );
     }
     if cg.inner_diameter <= b.inner_land_diameter && cg.guidance != CageGuidance::InnerLand {
-        c.push("bearing.cage.inner_diameter", "cage would interfere with the inner land");
+        c.push(
+            "bearing.cage.inner_diameter",
+            "cage would interfere with the inner land",
+        );
     }
 }
 
@@ -369,7 +519,10 @@ mod tests {
         assert!(paths.contains(&"bearing.ball_diameter"), "{paths:?}");
         assert!(paths.contains(&"lubricant.dynamic_viscosity"));
         assert!(paths.contains(&"solver.duration"));
-        let e = errs.iter().find(|e| e.path == "bearing.ball_diameter").unwrap();
+        let e = errs
+            .iter()
+            .find(|e| e.path == "bearing.ball_diameter")
+            .unwrap();
         assert_eq!(e.message, "must be > 0 m");
     }
 
@@ -377,22 +530,52 @@ mod tests {
     fn rejects_impossible_geometry() {
         let mut s = scene();
         s.bearing.inner_groove_curvature = 0.5;
-        assert!(s.validate().unwrap_err().0.iter().any(|e| e.path == "bearing.inner_groove_curvature"));
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .0
+            .iter()
+            .any(|e| e.path == "bearing.inner_groove_curvature"));
 
         let mut s = scene();
         s.bearing.ball_count = 30; // 30 balls of 5.556 mm on a 36 mm pitch circle overlap
-        assert!(s.validate().unwrap_err().0.iter().any(|e| e.path == "bearing.ball_count"));
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .0
+            .iter()
+            .any(|e| e.path == "bearing.ball_count"));
 
         let mut s = scene();
         s.bearing.contact_angle = 25f64.to_radians();
-        assert!(s.validate().unwrap_err().0.iter().any(|e| e.path == "bearing.contact_angle"));
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .0
+            .iter()
+            .any(|e| e.path == "bearing.contact_angle"));
 
         let mut s = scene();
         s.bearing.cage.pocket_diameter = 5.0e-3;
-        assert!(s.validate().unwrap_err().0.iter().any(|e| e.path == "bearing.cage.pocket_diameter"));
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .0
+            .iter()
+            .any(|e| e.path == "bearing.cage.pocket_diameter"));
 
         let mut s = scene();
-        s.faults.push(Fault { ring: Ring::Outer, angle: 0.0, width: 6e-3, depth: 1e-4 });
-        assert!(s.validate().unwrap_err().0.iter().any(|e| e.path == "faults[0].width"));
+        s.faults.push(Fault {
+            ring: Ring::Outer,
+            angle: 0.0,
+            width: 6e-3,
+            depth: 1e-4,
+        });
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .0
+            .iter()
+            .any(|e| e.path == "faults[0].width"));
     }
 }

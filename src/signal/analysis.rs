@@ -38,6 +38,9 @@ pub struct AnalysisOptions {
     pub qshift: String,
     /// Minimum prominence of a detection, dB (default 12).
     pub detection_threshold_db: f64,
+    /// Also report the identifications of every level (band-pass by wavelet level), not only
+    /// the best and runner-up (default false).
+    pub report_all_levels: bool,
 }
 
 impl Default for AnalysisOptions {
@@ -51,6 +54,7 @@ impl Default for AnalysisOptions {
             biort: "near_sym_b".into(),
             qshift: "qshift_b".into(),
             detection_threshold_db: DEFAULT_THRESHOLD_DB,
+            report_all_levels: false,
         }
     }
 }
@@ -98,6 +102,9 @@ pub struct AnalysisReport {
     pub best_component: ComponentReport,
     /// The level with the second-largest kurtosis.
     pub runner_up_component: ComponentReport,
+    /// Every level, index 0 = level 1, when `report_all_levels` was asked for (else empty).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub all_levels: Vec<ComponentReport>,
 }
 
 /// Report plus the spectra it was read from.
@@ -170,10 +177,7 @@ pub fn analyze(
                 return Err(invalid("window", format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])")));
             }
             if t0 >= duration {
-                return Err(invalid(
-                    "window",
-                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
-                ));
+                return Err(invalid("window", format!("starts at {t0} s, after the end of the signal ({duration} s)")));
             }
             let i0 = (t0 * fs).round() as usize;
             let i1 = ((t1 * fs).round() as usize).min(signal.len());
@@ -225,6 +229,7 @@ pub fn analyze(
     let best_component = component_report(order[0]);
     // With a single level there is no runner-up: the best one is repeated.
     let runner_up_component = component_report(*order.get(1).unwrap_or(&order[0]));
+    let all_levels = if opts.report_all_levels { (0..opts.levels).map(component_report).collect() } else { Vec::new() };
 
     let raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
@@ -242,6 +247,7 @@ pub fn analyze(
         raw_bpfi_sidebands,
         best_component,
         runner_up_component,
+        all_levels,
     };
     Ok(AnalysisOutput { report, raw_spectrum, level_spectra })
 }
@@ -355,6 +361,42 @@ mod tests {
         assert_eq!(out.level_spectra.len(), 5);
         assert_eq!(out.report.level_kurtosis.len(), 5);
         assert_eq!(simulation_window(0.1, 1.1), [0.2, 1.1]);
+    }
+
+    #[test]
+    fn simulation_results_are_analysed_after_the_ramp() {
+        use crate::simulation::{Channel, Channels, SimResult, Summary};
+        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
+        scene.operating.speed.ramp_time = 0.2;
+        scene.solver.duration = 1.2;
+        let fs = 20_000.0;
+        // a huge transient during the ramp, then a steady tone
+        let data: Vec<f64> = (0..24_000).map(|i| if i < 4_000 { 1e3 } else { (i as f64 * 0.3).sin() }).collect();
+        let result = SimResult {
+            summary: Summary::default(),
+            channels: Channels {
+                sample_rate: fs,
+                start_time: 0.0,
+                channels: vec![Channel { name: "outer_ring_accel_y".into(), unit: "m/s^2".into(), data }],
+            },
+        };
+        let out = analyze_simulation(&result, &scene, "outer_ring_accel_y", &AnalysisOptions::default()).unwrap();
+        // default window: ramp end 0.2 s + 10 % of the remaining 1.0 s -> [0.3, 1.2]
+        assert!((out.report.window[0] - 0.3).abs() < 1e-9 && (out.report.window[1] - 1.2).abs() < 1e-9);
+        assert!((out.report.shaft_hz - scene.operating.speed.steady_rpm / 60.0).abs() < 1e-9);
+        assert!(out.report.raw_kurtosis < 2.0, "ramp transient excluded");
+        let e = analyze_simulation(&result, &scene, "nope", &AnalysisOptions::default()).unwrap_err();
+        assert_eq!(e.to_string(), "channel: no channel named 'nope'");
+    }
+
+    #[test]
+    fn all_levels_on_request() {
+        let x: Vec<f64> = (0..4096).map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0).collect();
+        let o = AnalysisOptions { report_all_levels: true, levels: 4, ..Default::default() };
+        let r = analyze(&x, 1000.0, &geometry(), 30.0, &o).unwrap().report;
+        assert_eq!(r.all_levels.iter().map(|c| c.level).collect::<Vec<_>>(), vec![1, 2, 3, 4]);
+        let r = analyze(&x, 1000.0, &geometry(), 30.0, &AnalysisOptions::default()).unwrap().report;
+        assert!(r.all_levels.is_empty());
     }
 
     #[test]

@@ -30,7 +30,12 @@ impl HilbertPlan {
     /// Plan for signals of `n` samples (n >= 1).
     pub fn new(n: usize) -> Self {
         assert!(n >= 1, "HilbertPlan needs at least one sample");
-        let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        Self::with_forward(RealFftPlanner::<f64>::new().plan_fft_forward(n))
+    }
+
+    /// Plan around an existing forward real FFT (shared with other users of the same length).
+    pub fn with_forward(r2c: Arc<dyn RealToComplex<f64>>) -> Self {
+        let n = r2c.len();
         let ifft = FftPlanner::<f64>::new().plan_fft_inverse(n);
         HilbertPlan {
             n,

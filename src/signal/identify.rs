@@ -12,9 +12,10 @@
 //! 4. **prominence**: `20 log10(a[k] / median)` dB, the median of the spectrum amplitudes over
 //!    `f +/- max(20 % of f, 25 bins)` (clipped to the spectrum, DC excluded): a local noise floor
 //!    that a handful of other lines cannot move;
-//! 5. **detected** when the prominence reaches the threshold (default 12 dB) and the peak is a
+//! 5. **detected** when the prominence reaches the threshold (default 12 dB), the peak is a
 //!    strict local maximum strictly inside the band (a maximum on the band edge is the flank
-//!    of something outside it). 12 dB: envelope-spectrum noise bins are about Rayleigh
+//!    of something outside it), and no other kinematic line explains the peak better
+//!    ([`identify`]). 12 dB: envelope-spectrum noise bins are about Rayleigh
 //!    distributed, so a bin exceeds 4x its median with probability 2^-16 = 1.5e-5; over a
 //!    ~100-bin band that is a ~0.2 % false alarm per line, against ~5 % at 10 dB.
 
@@ -67,8 +68,12 @@ pub struct Identification {
     pub error_pct: f64,
     /// Peak amplitude over the local spectral median, dB.
     pub prominence_db: f64,
-    /// Prominence above threshold and a true local maximum inside the band.
+    /// Prominence above threshold, a true local maximum inside the band, and no other
+    /// kinematic line nearer to the peak (see [`identify`]).
     pub detected: bool,
+    /// The other kinematic line nearer to the identified peak, if any (then not detected).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nearer_line: Option<String>,
 }
 
 /// A shaft-rate sideband around a BPFI harmonic.
@@ -129,7 +134,7 @@ pub fn local_median(s: &Spectrum, center_hz: f64) -> f64 {
 /// Largest peak within `[lo_hz, hi_hz]`, prominence measured against the local median around
 /// `center_hz`. `None` if the band lies outside the spectrum (beyond Nyquist or below DC).
 pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option<Peak> {
-    if s.len() < 3 || !(center_hz > 0.0) {
+    if s.len() < 3 || center_hz.is_nan() || center_hz <= 0.0 {
         return None;
     }
     let last_usable = s.len() - 2; // keep a neighbour for interpolation
@@ -180,15 +185,68 @@ pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option
     })
 }
 
+/// A kinematic line other than the target that could explain a peak, and its frequency, Hz.
+fn explanations(theory: &CharacteristicFrequencies, harmonics: usize, f_max: f64) -> Vec<(String, f64)> {
+    let mut v = Vec::new();
+    for (name, f) in theory.named() {
+        for h in 1..=(harmonics as u32 + 1) {
+            v.push((format!("{name} x{h}"), f * h as f64));
+        }
+    }
+    // shaft harmonics (imbalance, misalignment, looseness)
+    let fr = theory.shaft_hz;
+    let mut k = 1;
+    while k as f64 * fr <= f_max && k <= 1000 {
+        v.push((format!("shaft x{k}"), k as f64 * fr));
+        k += 1;
+    }
+    // first and second shaft-rate sidebands of the fault families' harmonics: load-zone
+    // modulation of inner-race and ball faults, shaft-synchronous modulation of outer-race
+    // impacts. (Not around FTF, nor higher orders: the denser the list, the more chance
+    // coincidences; on the CWRU 6205, 4 FTF + 2 shaft is 0.2 % from BPFO.)
+    for (name, f) in theory.named() {
+        if name == "FTF" {
+            continue;
+        }
+        for h in 1..=(harmonics as u32 + 1) {
+            for order in [-2i32, -1, 1, 2] {
+                let fs = f * h as f64 + order as f64 * fr;
+                if fs > 0.0 {
+                    v.push((format!("{name} x{h} {order:+} shaft"), fs));
+                }
+            }
+        }
+    }
+    v
+}
+
 /// Look up each characteristic frequency (BPFO, BPFI, FTF, BSF, 2xBSF) and its harmonics.
 /// Targets beyond the spectrum are left out.
+///
+/// Attribution: a peak only counts as detected for this target if no other kinematic line
+/// (another family's harmonic, a shaft harmonic, a first or second shaft-rate sideband of a
+/// BPFO, BPFI, BSF or 2xBSF harmonic) lies nearer to the identified frequency than this
+/// target does; otherwise `nearer_line` names that line.
+/// Without it, the +/-5 % bands of a line-rich spectrum pick up each other's lines (on the
+/// CWRU 6205, 3 x BPFO and 2 x BPFI are 0.7 % apart).
 pub fn identify(s: &Spectrum, theory: &CharacteristicFrequencies, opts: &IdentifyOptions) -> Vec<Identification> {
+    let f_max = s.df * s.len() as f64;
+    let others = explanations(theory, opts.harmonics, f_max);
     let mut out = Vec::new();
     for (name, f) in theory.named() {
         for h in 1..=opts.harmonics as u32 {
             let target = f * h as f64;
             let half = target * opts.search_band_pct / 100.0;
             let Some(p) = find_peak(s, target - half, target + half, target) else { continue };
+            let own = format!("{name} x{h}");
+            let dist = (p.frequency_hz - target).abs();
+            let nearer_line = others
+                .iter()
+                .filter(|(n, fo)| *n != own && (fo - target).abs() > 1e-9 * target)
+                .map(|(n, fo)| (n, (p.frequency_hz - fo).abs()))
+                .filter(|(_, d)| *d < dist)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .map(|(n, _)| n.clone());
             out.push(Identification {
                 name: name.to_string(),
                 harmonic: h,
@@ -196,7 +254,8 @@ pub fn identify(s: &Spectrum, theory: &CharacteristicFrequencies, opts: &Identif
                 identified_hz: p.frequency_hz,
                 error_pct: (p.frequency_hz - target) / target * 100.0,
                 prominence_db: p.prominence_db,
-                detected: p.interior && p.prominence_db >= opts.detection_threshold_db,
+                detected: p.interior && p.prominence_db >= opts.detection_threshold_db && nearer_line.is_none(),
+                nearer_line,
             });
         }
     }

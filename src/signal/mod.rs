@@ -14,18 +14,18 @@
 pub mod dtcwt;
 
 pub use dtcwt::{Dtcwt1d, DtcwtError, Pyramid};
-pub mod kurtosis;
+pub mod analysis;
 pub mod frequencies;
 pub mod hilbert;
-pub mod spectrum;
 pub mod identify;
-pub mod analysis;
+pub mod kurtosis;
+pub mod spectrum;
 
 pub use analysis::{
-    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport, Identification,
-    Sideband, Spectrum,
+    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport, Identification, Sideband,
+    Spectrum,
 };
 pub use frequencies::{
-    characteristic_frequencies, kinematic_preset, kinematic_preset_names, CharacteristicFrequencies,
-    KinematicGeometry,
+    characteristic_frequencies, kinematic_preset, kinematic_preset_names, CharacteristicFrequencies, KinematicGeometry,
 };
+pub mod io;

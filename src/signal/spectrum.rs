@@ -64,7 +64,13 @@ impl SpectrumPlan {
     /// Plan for records of `n >= 2` samples.
     pub fn new(n: usize) -> Self {
         assert!(n >= 2, "a spectrum needs at least two samples");
-        let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        Self::with_forward(RealFftPlanner::<f64>::new().plan_fft_forward(n))
+    }
+
+    /// Plan around an existing forward real FFT (shared with other users of the same length).
+    pub fn with_forward(r2c: Arc<dyn RealToComplex<f64>>) -> Self {
+        let n = r2c.len();
+        assert!(n >= 2, "a spectrum needs at least two samples");
         let window: Vec<f64> =
             (0..n).map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())).collect();
         let window_sum = window.iter().sum();
@@ -113,7 +119,14 @@ pub struct EnvelopeSpectrumPlan {
 impl EnvelopeSpectrumPlan {
     /// Plan for records of `n >= 2` samples.
     pub fn new(n: usize) -> Self {
-        EnvelopeSpectrumPlan { hilbert: HilbertPlan::new(n), spectrum: SpectrumPlan::new(n), envelope: Vec::new() }
+        assert!(n >= 2, "a spectrum needs at least two samples");
+        // one forward plan serves both the analytic signal and the spectrum of the envelope
+        let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        EnvelopeSpectrumPlan {
+            hilbert: HilbertPlan::with_forward(r2c.clone()),
+            spectrum: SpectrumPlan::with_forward(r2c),
+            envelope: Vec::with_capacity(n),
+        }
     }
 
     /// Envelope spectrum of `x` sampled at `fs` Hz, the envelope optionally taken from the

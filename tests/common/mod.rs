@@ -1,147 +1,75 @@
-//! Shared helpers: run the real `bearing-sim serve` binary on a random port with a
-//! temporary database and talk to it over HTTP.
+//! Helpers shared by the signal integration tests.
 #![allow(dead_code)]
 
-use serde_json::{json, Value};
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+mod server;
+pub use server::*;
 
-pub struct Server {
-    child: Child,
-    pub base: String,
-    pub log: PathBuf,
-}
+use std::f64::consts::PI;
 
-impl Server {
-    /// Start on `db` (a file path) with extra flags; returns once it listens.
-    pub fn start(db: &Path, args: &[&str]) -> Server {
-        let log = db.with_extension(format!("log{}", std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_nanos()));
-        let log_file = std::fs::File::create(&log).unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-            .arg("serve")
-            .args(["--bind", "127.0.0.1:0", "--database-url"])
-            .arg(format!("sqlite://{}", db.display()))
-            .args(args)
-            .env_remove("BEARING_SIM_BIND")
-            .env_remove("BEARING_SIM_DATABASE_URL")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::from(log_file))
-            .spawn()
-            .expect("spawn bearing-sim serve");
-        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-        let base = loop {
-            match lines.next() {
-                Some(Ok(line)) => {
-                    if let Some(url) = line.strip_prefix("listening on ") {
-                        break url.trim().to_string();
-                    }
-                }
-                _ => panic!("server exited before listening; log:\n{}", std::fs::read_to_string(&log).unwrap_or_default()),
-            }
-        };
-        // Keep draining stdout so the child never blocks on a full pipe.
-        std::thread::spawn(move || for _ in lines {});
-        Server { child, base, log }
+/// Deterministic xorshift64* generator with Box-Muller normals (no dependency, reproducible).
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.max(1))
     }
-
-    pub fn url(&self, path: &str) -> String {
-        format!("{}{}", self.base, path)
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let v = self.0.wrapping_mul(0x2545F4914F6CDD1D);
+        ((v >> 11) as f64 + 0.5) / (1u64 << 53) as f64
     }
-
-    /// SIGKILL: no shutdown code runs, as in a crash.
-    pub fn kill(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-
-    /// SIGTERM and wait for the process to exit.
-    pub fn terminate(&mut self) -> std::process::ExitStatus {
-        let _ = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status();
-        self.child.wait().unwrap()
-    }
-
-    pub fn log(&self) -> String {
-        std::fs::read_to_string(&self.log).unwrap_or_default()
+    pub fn normal(&mut self) -> f64 {
+        let (u1, u2) = (self.uniform(), self.uniform());
+        (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
     }
 }
 
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.kill();
-    }
-}
-
-pub fn client() -> reqwest::Client {
-    reqwest::Client::builder().timeout(Duration::from_secs(60)).build().unwrap()
-}
-
-/// A short simulation request: the H7005C compound-fault preset, `duration` s.
-pub fn short_scene(duration: f64) -> Value {
-    json!({"preset": "h7005c", "fault_case": "compound", "overrides": {"solver": {"duration": duration}}})
-}
-
-/// A short run that reaches steady speed (5 ms ramp), so the summary's averages exist.
-pub fn steady_scene(duration: f64) -> Value {
-    json!({"preset": "h7005c", "fault_case": "compound",
-           "overrides": {"operating": {"speed": {"ramp_time": 0.005}}, "solver": {"duration": duration}}})
-}
-
-pub async fn post_json(c: &reqwest::Client, url: &str, body: &Value) -> (u16, reqwest::header::HeaderMap, Value) {
-    let r = c.post(url).json(body).send().await.unwrap();
-    let status = r.status().as_u16();
-    let headers = r.headers().clone();
-    let text = r.text().await.unwrap();
-    (status, headers, serde_json::from_str(&text).unwrap_or(Value::String(text)))
-}
-
-pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
-    let r = c.get(url).send().await.unwrap();
-    let status = r.status().as_u16();
-    let headers = r.headers().clone();
-    let text = r.text().await.unwrap();
-    (status, headers, serde_json::from_str(&text).unwrap_or(Value::String(text)))
-}
-
-pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
-    let (status, _, job) = post_json(c, &s.url("/v1/simulations"), body).await;
-    assert_eq!(status, 202, "submit: {job}");
-    job["id"].as_str().unwrap().to_string()
-}
-
-/// Poll a job until `pred` holds, panicking with the last state after `timeout`.
-pub async fn wait_until(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration, pred: impl Fn(&Value) -> bool) -> Value {
-    let start = Instant::now();
+/// Impulses at `t_k = phase + k / rate` (continuous times, so the rate is exact), each exciting a
+/// decaying resonance `amp_k exp(-2 pi zeta fn (t - t_k)) sin(2 pi fn_d (t - t_k))`, with
+/// `amp_k = 1 + am_depth cos(2 pi am_hz t_k)` (load-zone modulation; 0 for none).
+#[allow(clippy::too_many_arguments)]
+pub fn impulse_train(
+    n: usize,
+    fs: f64,
+    rate: f64,
+    phase: f64,
+    resonance_hz: f64,
+    zeta: f64,
+    am_depth: f64,
+    am_hz: f64,
+) -> Vec<f64> {
+    let mut x = vec![0.0; n];
+    let decay = 2.0 * PI * zeta * resonance_hz;
+    let wd = 2.0 * PI * resonance_hz * (1.0 - zeta * zeta).sqrt();
+    let ring = (12.0 / decay * fs) as usize; // until exp(-12) ~ 6e-6
+    let duration = n as f64 / fs;
+    let mut k = 0;
     loop {
-        let (status, _, job) = get_json(c, &s.url(&format!("/v1/simulations/{id}"))).await;
-        assert_eq!(status, 200, "{job}");
-        if pred(&job) {
-            return job;
+        let tk = phase + k as f64 / rate;
+        if tk >= duration {
+            break;
         }
-        if start.elapsed() > timeout {
-            panic!("job {id} did not reach the expected state within {timeout:?}: {job}\nserver log:\n{}", s.log());
+        let amp = 1.0 + am_depth * (2.0 * PI * am_hz * tk).cos();
+        let i0 = (tk * fs).ceil() as usize;
+        for (i, xi) in x.iter_mut().enumerate().skip(i0).take(ring) {
+            let t = i as f64 / fs - tk;
+            *xi += amp * (-decay * t).exp() * (wd * t).sin();
         }
-        tokio::time::sleep(Duration::from_millis(50)).await;
+        k += 1;
+    }
+    x
+}
+
+pub fn add_noise(x: &mut [f64], sigma: f64, rng: &mut Rng) {
+    for v in x.iter_mut() {
+        *v += sigma * rng.normal();
     }
 }
 
-pub async fn wait_finished(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration) -> Value {
-    wait_until(c, s, id, timeout, |j| matches!(j["state"].as_str(), Some("succeeded" | "failed" | "cancelled"))).await
-}
-
-/// Every problem response has the RFC 9457 members and content type.
-pub fn assert_problem(status: u16, headers: &reqwest::header::HeaderMap, body: &Value, want: u16) {
-    assert_eq!(status, want, "{body}");
-    assert_eq!(headers.get("content-type").unwrap(), "application/problem+json", "{body}");
-    assert_eq!(body["status"].as_u64(), Some(want as u64), "{body}");
-    for k in ["type", "title", "detail"] {
-        assert!(body[k].is_string(), "problem lacks {k}: {body}");
-    }
-}
-
-pub fn temp_db() -> (tempfile::TempDir, PathBuf) {
-    let dir = tempfile::tempdir().unwrap();
-    let db = dir.path().join("jobs.db");
-    (dir, db)
+pub fn read_f32le(path: &str) -> Vec<f64> {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    let b = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    b.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64).collect()
 }

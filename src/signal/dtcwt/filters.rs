@@ -62,7 +62,13 @@ pub fn biort(name: &str) -> Result<BiortFilters, DtcwtError> {
         .find(|n| **n == key)
         .and_then(|n| table().get(*n))
         .ok_or_else(|| DtcwtError::UnknownFilter { field: "biort", name: name.into(), expected: BIORT_NAMES })?;
-    Ok(BiortFilters { name: key, h0o: get(set, "h0o"), g0o: get(set, "g0o"), h1o: get(set, "h1o"), g1o: get(set, "g1o") })
+    Ok(BiortFilters {
+        name: key,
+        h0o: get(set, "h0o"),
+        g0o: get(set, "g0o"),
+        h1o: get(set, "h1o"),
+        g1o: get(set, "g1o"),
+    })
 }
 
 /// Look up a Q-shift filter set by name (case-insensitive).
