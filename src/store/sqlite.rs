@@ -394,3 +394,92 @@ impl Store for SqliteStore {
         Ok(c)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    async fn store() -> (tempfile::TempDir, SqliteStore) {
+        let dir = tempfile::tempdir().unwrap();
+        let url = format!("sqlite://{}", dir.path().join("t.db").display());
+        let s = SqliteStore::connect(&url).await.unwrap();
+        (dir, s)
+    }
+
+    fn new_job(key: Option<&str>, hash: &str) -> NewJob {
+        NewJob {
+            id: uuid::Uuid::now_v7().to_string(),
+            kind: JobKind::Simulation,
+            label: "t".into(),
+            input: json!({}),
+            input_blob: None,
+            idempotency_key: key.map(String::from),
+            request_hash: hash.into(),
+        }
+    }
+
+    #[tokio::test]
+    async fn a_stale_lease_can_never_write() {
+        let (_d, s) = store().await;
+        let id = s.create_job(new_job(None, "h"), 10).await.unwrap().job.id;
+        // Worker A claims with a lease that is already over (as if it hung).
+        let a = s.claim("A", -1).await.unwrap().unwrap().lease;
+        assert_eq!((a.id.as_str(), a.attempt), (id.as_str(), 1));
+        assert_eq!(s.recover_expired(3).await.unwrap(), 1);
+        let b = s.claim("B", 60_000).await.unwrap().unwrap().lease;
+        assert_eq!(b.attempt, 2);
+        // A wakes up: every write of its lease is refused.
+        assert!(matches!(s.heartbeat(&a, 0.5, 1000).await, Err(StoreError::LeaseLost)));
+        let late = Outcome::Failed { error: JobError { kind: "x".into(), message: "stale".into() }, stats: None };
+        assert!(matches!(s.finish(&a, late).await, Err(StoreError::LeaseLost)));
+        assert!(matches!(s.release(&a).await, Err(StoreError::LeaseLost)));
+        // B's outcome stands.
+        s.heartbeat(&b, 0.5, 60_000).await.unwrap();
+        s.finish(&b, Outcome::Succeeded { result: json!({"ok": true}), stats: None, artifacts: vec![] }).await.unwrap();
+        let job = s.get_job(&id).await.unwrap();
+        assert_eq!(job.state, JobState::Succeeded);
+        assert_eq!(job.result, Some(json!({"ok": true})));
+        assert!(s.claim("C", 1000).await.unwrap().is_none());
+    }
+
+    #[tokio::test]
+    async fn lost_leases_give_up_after_max_attempts_and_release_does_not_count() {
+        let (_d, s) = store().await;
+        let id = s.create_job(new_job(None, "h"), 10).await.unwrap().job.id;
+        let l = s.claim("A", 60_000).await.unwrap().unwrap().lease;
+        s.release(&l).await.unwrap();
+        assert_eq!(s.get_job(&id).await.unwrap().attempt, 0);
+        for _ in 0..2 {
+            s.claim("A", -1).await.unwrap().unwrap();
+            s.recover_expired(2).await.unwrap();
+        }
+        let job = s.get_job(&id).await.unwrap();
+        assert_eq!(job.state, JobState::Failed);
+        assert_eq!(job.error.unwrap().kind, "lease_expired");
+    }
+
+    #[tokio::test]
+    async fn admission_idempotency_and_cancel() {
+        let (_d, s) = store().await;
+        let first = s.create_job(new_job(Some("k"), "h1"), 2).await.unwrap();
+        assert!(first.created);
+        let replay = s.create_job(new_job(Some("k"), "h1"), 2).await.unwrap();
+        assert!(!replay.created);
+        assert_eq!(replay.job.id, first.job.id);
+        assert!(matches!(s.create_job(new_job(Some("k"), "h2"), 2).await, Err(StoreError::IdempotencyMismatch(_))));
+        s.create_job(new_job(None, "h"), 2).await.unwrap();
+        assert!(matches!(s.create_job(new_job(None, "h"), 2).await, Err(StoreError::QueueFull(2))));
+
+        // queued -> cancelled at once; running -> flagged, seen by the heartbeat
+        let c = s.request_cancel(&first.job.id).await.unwrap();
+        assert_eq!(c.state, JobState::Cancelled);
+        assert!(matches!(s.request_cancel(&first.job.id).await, Err(StoreError::Conflict { .. })));
+        let l = s.claim("A", 60_000).await.unwrap().unwrap().lease;
+        assert!(!s.heartbeat(&l, 0.1, 60_000).await.unwrap().cancel_requested);
+        assert_eq!(s.request_cancel(&l.id).await.unwrap().state, JobState::Running);
+        assert!(s.heartbeat(&l, 0.2, 60_000).await.unwrap().cancel_requested);
+        assert!(matches!(s.delete_job(&l.id).await, Err(StoreError::Conflict { .. })));
+        assert!(matches!(s.get_job("nope").await, Err(StoreError::NotFound(_))));
+    }
+}

@@ -1,7 +1,6 @@
 //! Helpers for the service tests: run the real `bearing-sim serve` binary on a random
 //! port with a temporary database and talk to it over HTTP.
 
-
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
