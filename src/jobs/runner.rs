@@ -58,10 +58,7 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
     }
 
     let run_ctl = ctl.clone();
-    let mut task = tokio::task::spawn_blocking(move || {
-        // A panic in the engine fails this job with its message, not the process.
-        catch_unwind(AssertUnwindSafe(|| execute(&job, &run_ctl))).unwrap_or_else(|p| Err(JobFailure::new("panic", panic_message(&p))))
-    });
+    let mut task = tokio::task::spawn_blocking(move || guarded(|| execute(&job, &run_ctl)));
 
     let mut ticker = tokio::time::interval(env.config.heartbeat_interval());
     ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
@@ -114,6 +111,11 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
     }
 }
 
+/// A panic in the engine fails this job with its message, not the process.
+fn guarded(run: impl FnOnce() -> Result<JobOutput, JobFailure>) -> Result<JobOutput, JobFailure> {
+    catch_unwind(AssertUnwindSafe(run)).unwrap_or_else(|p| Err(JobFailure::new("panic", panic_message(&p))))
+}
+
 fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {
     let msg = p
         .downcast_ref::<&str>()
@@ -121,4 +123,19 @@ fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {
         .or_else(|| p.downcast_ref::<String>().cloned())
         .unwrap_or_else(|| "non-string panic payload".into());
     format!("engine panicked: {msg}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_becomes_the_jobs_failure() {
+        let r = guarded(|| panic!("index 7 out of range"));
+        let f = r.err().unwrap();
+        assert_eq!(f.kind, "panic");
+        assert!(f.message.contains("index 7 out of range"), "{}", f.message);
+        let r = guarded(|| std::panic::panic_any(42_u8));
+        assert_eq!(r.err().unwrap().kind, "panic");
+    }
 }
