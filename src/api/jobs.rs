@@ -156,7 +156,7 @@ async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) 
         return Err(Problem::bad_request(format!("query parameter 'kind' = '{which}': expected raw, best_component or level")));
     }
     if which == "level" && level.is_none() {
-        return Err(Problem::bad_request("kind=level needs the query parameter 'level' (1 = finest)"));
+        return Err(Problem::field("level", "required with kind=level (1 = finest)"));
     }
     let job = succeeded(&state, kind, &id).await?;
     let analysis = job.result.as_ref().and_then(|r| r.get("analysis")).filter(|a| !a.is_null()).cloned();
