@@ -262,8 +262,16 @@ pub async fn enqueue(state: &AppState, headers: &HeaderMap, kind: JobKind, label
     let key = match headers.get("idempotency-key") {
         None => None,
         Some(v) => {
-            let k = v.to_str().ok().map(str::trim).filter(|k| !k.is_empty() && k.len() <= 255);
-            Some(k.ok_or_else(|| Problem::bad_request("Idempotency-Key must be 1-255 visible ASCII characters"))?.to_string())
+            // 1-255 printable ASCII characters, not starting or ending with a space.
+            let b = v.as_bytes();
+            let ok = (1..=255).contains(&b.len())
+                && b.iter().all(|c| (0x20..=0x7e).contains(c))
+                && b[0] != b' '
+                && b[b.len() - 1] != b' ';
+            if !ok {
+                return Err(Problem::bad_request("Idempotency-Key must be 1-255 printable ASCII characters, without leading or trailing spaces"));
+            }
+            Some(String::from_utf8_lossy(b).into_owned())
         }
     };
     let mut hasher = Fnv1a::default();
