@@ -1,0 +1,62 @@
+//! The right-hand side and the stepping loop do not allocate: counted with a global
+//! allocator wrapper.
+
+use bearing_sim::dynamics::model::Model;
+use bearing_sim::dynamics::rhs::{rhs, Diagnostics};
+use bearing_sim::dynamics::run::initial_state;
+use bearing_sim::quasi_static::solve_model;
+use bearing_sim::scene::{fault_case_scene, FaultCase};
+use bearing_sim::simulation::{simulate, RunControl};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+// One test function: the counter is global, and tests in one binary run in parallel.
+#[test]
+fn rhs_and_stepping_loop_do_not_allocate() {
+    let scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+    let m = Model::new(&scene);
+    let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
+    let y = initial_state(&m, &qs);
+    let mut dy = vec![0.0; y.len()];
+    let mut diag = Diagnostics::new(m.z);
+    let before = ALLOCS.load(Ordering::Relaxed);
+    for k in 0..100 {
+        rhs(&m, k as f64 * 1e-6, &y, &mut dy, Some(&mut diag));
+    }
+    assert_eq!(ALLOCS.load(Ordering::Relaxed) - before, 0, "rhs allocated");
+
+    // A run allocates its buffers up front and its result at the end; the number of
+    // allocations must not depend on how many steps it takes.
+    let count = |duration: f64| {
+        let mut s = scene.clone();
+        s.solver.duration = duration;
+        s.solver.sample_rate = 1000.0; // same sample count (3) for both durations
+        let before = ALLOCS.load(Ordering::Relaxed);
+        let r = simulate(&s, RunControl::default()).unwrap();
+        (ALLOCS.load(Ordering::Relaxed) - before, r.summary.stats.accepted_steps)
+    };
+    let (a1, s1) = count(0.0025);
+    let (a2, s2) = count(0.0029);
+    assert!(s2 > s1 + 10, "the second run must take more steps ({s1} vs {s2})");
+    assert_eq!(a1, a2, "allocations grew with the step count: {a1} vs {a2}");
+}
