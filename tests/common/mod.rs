@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 mod server;
+#[allow(unused_imports)]
 pub use server::*;
 
 use std::f64::consts::PI;
