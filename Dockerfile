@@ -6,6 +6,8 @@ FROM rust:1.95-bookworm AS build
 WORKDIR /src
 COPY Cargo.toml Cargo.lock ./
 COPY src ./src
+# Cargo.toml declares the bench target, so its source must be present to build at all.
+COPY benches ./benches
 COPY migrations ./migrations
 COPY openapi.yaml ./
 # --locked: exactly the dependency versions of Cargo.lock, as CI builds them.

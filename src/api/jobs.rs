@@ -61,8 +61,10 @@ async fn get_job(state: AppState, kind: JobKind, id: String, headers: HeaderMap,
         if !unchanged {
             return Ok(job_response(StatusCode::OK, &job));
         }
-        // Long poll: with `wait`, hold an unchanged answer until the job changes.
-        if job.state.is_finished() || Instant::now() >= deadline {
+        // Long poll: with `wait`, hold an unchanged answer until the job changes. `*` names
+        // no version to wait past, so it is answered at once.
+        let wildcard = inm.as_deref().is_some_and(|t| t.trim() == "*");
+        if wildcard || job.state.is_finished() || Instant::now() >= deadline {
             return Ok(not_modified(&job));
         }
         tokio::time::sleep(Duration::from_millis(200)).await;
