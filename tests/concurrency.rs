@@ -18,7 +18,7 @@ async fn fifty_clients_two_hundred_jobs_each_completes_exactly_once() {
     let base = s.base.clone();
     let mut tasks = vec![];
     for client_no in 0..50 {
-        let c = c.clone();
+        let c = client(); // each client its own connection pool
         let base = base.clone();
         tasks.push(tokio::spawn(async move {
             let mut ids = vec![];

@@ -329,6 +329,17 @@ impl Store for SqliteStore {
             kind: "lease_expired".into(),
             message: format!("the worker running this job stopped responding {max_attempts} times; giving up"),
         };
+        // A job asked to cancel is not run again: it ends cancelled.
+        let cancelled = sqlx::query(
+            "UPDATE jobs SET state = 'cancelled', error = ?2, owner = NULL, lease_expires_at = NULL, \
+                 finished_at = ?1, updated_at = ?1, version = version + 1 \
+             WHERE state = 'running' AND lease_expires_at < ?1 AND cancel_requested = 1",
+        )
+        .bind(now)
+        .bind(r#"{"kind":"cancelled","message":"cancelled (its worker stopped before confirming)"}"#)
+        .execute(&self.pool)
+        .await?
+        .rows_affected();
         let failed = sqlx::query(
             "UPDATE jobs SET state = 'failed', error = ?3, owner = NULL, lease_expires_at = NULL, \
                  finished_at = ?1, updated_at = ?1, version = version + 1 \
@@ -337,17 +348,6 @@ impl Store for SqliteStore {
         .bind(now)
         .bind(max_attempts)
         .bind(serde_json::to_string(&err).unwrap_or_default())
-        .execute(&self.pool)
-        .await?
-        .rows_affected();
-        // A requeued job that had been asked to cancel is cancelled instead.
-        let cancelled = sqlx::query(
-            "UPDATE jobs SET state = 'cancelled', error = ?2, owner = NULL, lease_expires_at = NULL, \
-                 finished_at = ?1, updated_at = ?1, version = version + 1 \
-             WHERE state = 'running' AND lease_expires_at < ?1 AND cancel_requested = 1",
-        )
-        .bind(now)
-        .bind(r#"{"kind":"cancelled","message":"cancelled (its worker stopped before confirming)"}"#)
         .execute(&self.pool)
         .await?
         .rows_affected();
