@@ -329,3 +329,34 @@ async fn analyses_run_directly_or_as_queued_jobs() {
     // the analysis id is not a simulation id
     assert_eq!(get_json(&c, &s.url(&format!("/v1/simulations/{}", job["id"].as_str().unwrap()))).await.0, 404);
 }
+
+#[tokio::test]
+async fn long_poll_holds_an_unchanged_job_until_it_changes() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "0", "--request-timeout", "1"]);
+    let c = client();
+    let id = submit(&c, &s, &short_scene(0.01)).await;
+    let url = s.url(&format!("/v1/simulations/{id}"));
+    let etag = c.get(&url).send().await.unwrap().headers()["etag"].to_str().unwrap().to_string();
+
+    // Unchanged: held for `wait` (longer than the 1 s request timeout, which does not apply), then 304.
+    let t = std::time::Instant::now();
+    let r = c.get(format!("{url}?wait=1.5")).header("if-none-match", &etag).send().await.unwrap();
+    assert_eq!(r.status(), 304);
+    assert!(t.elapsed() >= Duration::from_millis(1400), "{:?}", t.elapsed());
+
+    // A change during the wait answers at once with the new state.
+    let poll = {
+        let (c, url, etag) = (c.clone(), url.clone(), etag.clone());
+        tokio::spawn(async move { c.get(format!("{url}?wait=30")).header("if-none-match", etag).send().await.unwrap() })
+    };
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    c.post(s.url(&format!("/v1/simulations/{id}/cancel"))).send().await.unwrap();
+    let r = poll.await.unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.json::<Value>().await.unwrap()["state"], "cancelled");
+
+    // wait out of range is a 400
+    let (st, h, body) = get_json(&c, &format!("{url}?wait=61")).await;
+    assert_problem(st, &h, &body, 400);
+}
