@@ -265,9 +265,10 @@ fn synthetic_outer_fault(fs: f64, seconds: f64, bpfo: f64) -> Vec<f64> {
     let mut t_hit = 0.0;
     while t_hit < seconds {
         let k0 = (t_hit * fs) as usize;
-        for k in k0..(k0 + (0.004 * fs) as usize).min(n) {
-            let t = (k - k0) as f64 / fs;
-            x[k] += (-t * 800.0).exp() * (2.0 * std::f64::consts::PI * 3000.0 * t).sin();
+        let end = (k0 + (0.004 * fs) as usize).min(n);
+        for (j, v) in x[k0.min(end)..end].iter_mut().enumerate() {
+            let t = j as f64 / fs;
+            *v += (-t * 800.0).exp() * (2.0 * std::f64::consts::PI * 3000.0 * t).sin();
         }
         t_hit += 1.0 / bpfo;
     }

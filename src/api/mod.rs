@@ -1,5 +1,9 @@
 //! HTTP API: router, shared state and the middleware every route gets.
 
+// `Problem` is the error of every handler and is turned into a response at once; boxing it
+// would only add noise.
+#![allow(clippy::result_large_err)]
+
 mod analyses;
 mod extract;
 mod jobs;

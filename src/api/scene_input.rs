@@ -75,9 +75,7 @@ fn preset_value(preset: Value, case: Option<Value>, overrides: Option<Value>, er
         None | Some(Value::Object(_)) => {}
         Some(other) => errors.push(FieldProblem { path: "overrides".into(), message: format!("must be an object (a JSON merge patch), got {}", kind_of(other)) }),
     }
-    if case.is_none() {
-        return None;
-    }
+    case?;
     let mut v = serde_json::to_value(scene?).ok()?;
     if let Some(p @ Value::Object(_)) = &overrides {
         merge_patch(&mut v, p);
