@@ -41,7 +41,11 @@ fn time<T>(label: &str, mut f: impl FnMut() -> T) -> Duration {
         .collect();
     d.sort();
     let med = d[RUNS / 2];
-    println!("{label:<58} median {:>8.1} ms   min {:>8.1} ms   ({RUNS} runs)", ms(med), ms(d[0]));
+    println!(
+        "{label:<58} median {:>8.1} ms   min {:>8.1} ms   ({RUNS} runs)",
+        ms(med),
+        ms(d[0])
+    );
     med
 }
 
@@ -52,29 +56,52 @@ fn ms(d: Duration) -> f64 {
 fn main() {
     let x = signal();
     let t = Dtcwt1d::default();
-    println!("analysis benchmark: n = 2^20 = {N} samples, fs = {FS} Hz, 5 levels, near_sym_b / qshift_b");
+    println!(
+        "analysis benchmark: n = 2^20 = {N} samples, fs = {FS} Hz, 5 levels, near_sym_b / qshift_b"
+    );
 
     let fwd = time("DTCWT forward, 5 levels", || t.forward(&x, 5).unwrap());
     let p = t.forward(&x, 5).unwrap();
     let comps = time("5 per-level components (single-level inverses)", || {
-        (1..=5).map(|l| t.level_component(&p, l)).collect::<Vec<_>>()
+        (1..=5)
+            .map(|l| t.level_component(&p, l))
+            .collect::<Vec<_>>()
     });
     let mut plan = EnvelopeSpectrumPlan::new(N);
-    let env1 = time("envelope spectrum, one record (planned, buffers reused)", || plan.compute(&x, FS, None));
-    let plan_cost = time("envelope spectrum incl. planning", || EnvelopeSpectrumPlan::new(N).compute(&x, FS, None));
-    let target = time("DTCWT 5 levels + components + envelope spectrum of best", || {
-        let p = t.forward(&x, 5).unwrap();
-        let c: Vec<Vec<f64>> = (1..=5).map(|l| t.level_component(&p, l)).collect();
-        let k: Vec<f64> = c.iter().map(|v| bearing_sim::signal::kurtosis::kurtosis(v)).collect();
-        let best = (0..5).max_by(|&a, &b| k[a].total_cmp(&k[b])).unwrap();
-        plan.compute(&c[best], FS, None)
+    let env1 = time(
+        "envelope spectrum, one record (planned, buffers reused)",
+        || plan.compute(&x, FS, None),
+    );
+    let plan_cost = time("envelope spectrum incl. planning", || {
+        EnvelopeSpectrumPlan::new(N).compute(&x, FS, None)
     });
+    let target = time(
+        "DTCWT 5 levels + components + envelope spectrum of best",
+        || {
+            let p = t.forward(&x, 5).unwrap();
+            let c: Vec<Vec<f64>> = (1..=5).map(|l| t.level_component(&p, l)).collect();
+            let k: Vec<f64> = c
+                .iter()
+                .map(|v| bearing_sim::signal::kurtosis::kurtosis(v))
+                .collect();
+            let best = (0..5).max_by(|&a, &b| k[a].total_cmp(&k[b])).unwrap();
+            plan.compute(&c[best], FS, None)
+        },
+    );
     let g = kinematic_preset("h7005c").unwrap();
-    let full = time("analyze(): + raw and all 5 level envelope spectra + identification", || {
-        analyze(&x, FS, &g, 10_000.0 / 60.0, &AnalysisOptions::default()).unwrap()
-    });
+    let full = time(
+        "analyze(): + raw and all 5 level envelope spectra + identification",
+        || analyze(&x, FS, &g, 10_000.0 / 60.0, &AnalysisOptions::default()).unwrap(),
+    );
     println!();
     println!("summary (median, ms): forward {:.1}, components {:.1}, envelope spectrum {:.1} ({:.1} with planning), target pipeline {:.1}, full analyze {:.1}",
         ms(fwd), ms(comps), ms(env1), ms(plan_cost), ms(target), ms(full));
-    println!("target < 1000 ms: {}", if target < Duration::from_secs(1) { "met" } else { "NOT met" });
+    println!(
+        "target < 1000 ms: {}",
+        if target < Duration::from_secs(1) {
+            "met"
+        } else {
+            "NOT met"
+        }
+    );
 }

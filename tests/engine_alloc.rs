@@ -53,10 +53,16 @@ fn rhs_and_stepping_loop_do_not_allocate() {
         s.solver.sample_rate = 1000.0; // same sample count (3) for both durations
         let before = ALLOCS.load(Ordering::Relaxed);
         let r = simulate(&s, RunControl::default()).unwrap();
-        (ALLOCS.load(Ordering::Relaxed) - before, r.summary.stats.accepted_steps)
+        (
+            ALLOCS.load(Ordering::Relaxed) - before,
+            r.summary.stats.accepted_steps,
+        )
     };
     let (a1, s1) = count(0.0025);
     let (a2, s2) = count(0.0029);
-    assert!(s2 > s1 + 10, "the second run must take more steps ({s1} vs {s2})");
+    assert!(
+        s2 > s1 + 10,
+        "the second run must take more steps ({s1} vs {s2})"
+    );
     assert_eq!(a1, a2, "allocations grew with the step count: {a1} vs {a2}");
 }

@@ -121,7 +121,9 @@ fn band_rms(x: &[f64], fs: f64, fmax: f64) -> f64 {
 
 fn compound_constant_speed(duration: f64, tol: f64) -> Scene {
     let mut s = constant_speed(duration, tol);
-    s.faults = fault_case_scene("h7005c", FaultCase::Compound).unwrap().faults;
+    s.faults = fault_case_scene("h7005c", FaultCase::Compound)
+        .unwrap()
+        .faults;
     s
 }
 
@@ -131,11 +133,20 @@ fn tighter_tolerance_changes_little() {
     // settling time and span ~13 cage revolutions and ~170 outer-defect passes.
     let a = run(&compound_constant_speed(0.2, 1e-6));
     let b = run(&compound_constant_speed(0.2, 1e-7));
-    let dc = (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
+    let dc =
+        (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
     let fs = a.channels.sample_rate;
     let w0 = (a.summary.steady_window[0] * fs) as usize;
-    let ra = band_rms(&a.channels.get("outer_ring_accel_z").unwrap().data[w0..], fs, 20e3);
-    let rb = band_rms(&b.channels.get("outer_ring_accel_z").unwrap().data[w0..], fs, 20e3);
+    let ra = band_rms(
+        &a.channels.get("outer_ring_accel_z").unwrap().data[w0..],
+        fs,
+        20e3,
+    );
+    let rb = band_rms(
+        &b.channels.get("outer_ring_accel_z").unwrap().data[w0..],
+        fs,
+        20e3,
+    );
     let dr = (ra - rb).abs() / rb;
     eprintln!("cage speed change {dc:.2e}, RMS(<20 kHz) {ra:.3} vs {rb:.3} m/s^2 ({dr:.2e})");
     // The brief's figures: 0.01 % and 1 %.
@@ -150,7 +161,8 @@ fn tighter_tolerance_keeps_healthy_cage_speed() {
     // trajectory and scatters by 2-4 % between tolerances; see docs/benchmarks.md.)
     let a = run(&constant_speed(0.2, 1e-6));
     let b = run(&constant_speed(0.2, 1e-7));
-    let dc = (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
+    let dc =
+        (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
 }
 

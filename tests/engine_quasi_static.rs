@@ -126,10 +126,19 @@ fn free_tilt_under_a_moment_tilts_the_ring_the_right_way() {
     // A single angular contact bearing has little moment stiffness: a radial load through
     // the ring centre, off the bearing's pressure centre, tilts a free ring about Y (the
     // axis normal to the load) and, by symmetry of the load zone, not about Z.
-    assert!(level.inner_ring_tilt[0].abs() > 0.0 && level.inner_ring_tilt[1].abs() < 1e-9, "{:?}", level.inner_ring_tilt);
+    assert!(
+        level.inner_ring_tilt[0].abs() > 0.0 && level.inner_ring_tilt[1].abs() < 1e-9,
+        "{:?}",
+        level.inner_ring_tilt
+    );
     scene.operating.applied_moment = [0.5, 0.0];
     let tilted = solve(&scene, 0.0).unwrap();
     // +0.5 N m about +Y must tilt the ring positively about Y
-    assert!(tilted.inner_ring_tilt[0] > level.inner_ring_tilt[0], "{:?} vs {:?}", tilted.inner_ring_tilt, level.inner_ring_tilt);
+    assert!(
+        tilted.inner_ring_tilt[0] > level.inner_ring_tilt[0],
+        "{:?} vs {:?}",
+        tilted.inner_ring_tilt,
+        level.inner_ring_tilt
+    );
     assert!(tilted.residual < 1e-6 * 316.0);
 }

@@ -10,12 +10,15 @@
 
 mod common;
 
-use bearing_sim::signal::{analyze, kinematic_preset, AnalysisOptions, AnalysisReport, Identification};
+use bearing_sim::signal::{
+    analyze, kinematic_preset, AnalysisOptions, AnalysisReport, Identification,
+};
 
 const TOL_PCT: f64 = 1.0;
 
 fn manifest() -> serde_json::Value {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/cwru/manifest.json");
+    let p =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/cwru/manifest.json");
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
@@ -31,13 +34,18 @@ fn analyse(id: &str) -> (AnalysisReport, serde_json::Value) {
 }
 
 fn fundamental<'a>(ids: &'a [Identification], name: &str) -> &'a Identification {
-    ids.iter().find(|i| i.name == name && i.harmonic == 1).unwrap()
+    ids.iter()
+        .find(|i| i.name == name && i.harmonic == 1)
+        .unwrap()
 }
 
 fn check(id: &str, name: &str) {
     let (r, m) = analyse(id);
     let expected = m["expected_fault_frequencies_hz"][name].as_f64().unwrap();
-    for (what, ids) in [("raw", &r.raw), ("best component", &r.best_component.identifications)] {
+    for (what, ids) in [
+        ("raw", &r.raw),
+        ("best component", &r.best_component.identifications),
+    ] {
         let i = fundamental(ids, name);
         let err = (i.identified_hz - expected) / expected * 100.0;
         eprintln!(
@@ -49,9 +57,16 @@ fn check(id: &str, name: &str) {
     }
     // the harmonics agree with the fundamental (same shaft-speed error): 2x and 3x detected too
     for h in [2, 3] {
-        let i = r.raw.iter().find(|i| i.name == name && i.harmonic == h).unwrap();
+        let i = r
+            .raw
+            .iter()
+            .find(|i| i.name == name && i.harmonic == h)
+            .unwrap();
         let err = (i.identified_hz - h as f64 * expected) / (h as f64 * expected) * 100.0;
-        assert!(i.detected && err.abs() < TOL_PCT, "{id}: {name} x{h}: {i:?}");
+        assert!(
+            i.detected && err.abs() < TOL_PCT,
+            "{id}: {name} x{h}: {i:?}"
+        );
     }
 }
 
@@ -78,6 +93,10 @@ fn outer_race_record_does_not_report_bpfi() {
 fn inner_race_record_shows_shaft_sidebands_around_bpfi() {
     // load-zone modulation: BPFI +/- shaft lines are present on the inner-race record
     let (r, _) = analyse("cwru_ir007_0hp_12k_de");
-    let sb: Vec<_> = r.raw_bpfi_sidebands.iter().filter(|s| s.harmonic == 1 && s.detected).collect();
+    let sb: Vec<_> = r
+        .raw_bpfi_sidebands
+        .iter()
+        .filter(|s| s.harmonic == 1 && s.detected)
+        .collect();
     assert!(!sb.is_empty(), "{:?}", r.raw_bpfi_sidebands);
 }

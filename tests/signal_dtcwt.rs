@@ -7,19 +7,39 @@ use proptest::prelude::*;
 use std::path::PathBuf;
 
 fn fixture(case: &str, file: &str) -> Vec<f64> {
-    let p: PathBuf = [env!("CARGO_MANIFEST_DIR"), "tests/fixtures/dtcwt", case, file].iter().collect();
+    let p: PathBuf = [
+        env!("CARGO_MANIFEST_DIR"),
+        "tests/fixtures/dtcwt",
+        case,
+        file,
+    ]
+    .iter()
+    .collect();
     let bytes = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-    bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect()
+    bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap()))
+        .collect()
 }
 
 fn summary(case: &str) -> serde_json::Value {
-    let p: PathBuf = [env!("CARGO_MANIFEST_DIR"), "tests/fixtures/dtcwt", case, "summary.json"].iter().collect();
+    let p: PathBuf = [
+        env!("CARGO_MANIFEST_DIR"),
+        "tests/fixtures/dtcwt",
+        case,
+        "summary.json",
+    ]
+    .iter()
+    .collect();
     serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap()
 }
 
 fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
     assert_eq!(a.len(), b.len(), "length mismatch");
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// The criterion: 1e-9 absolute on unit-scale signals. Both implementations do the
@@ -39,17 +59,30 @@ fn check_golden(case: &str, biort: &str, qshift: &str) {
 
     for k in 1..=levels {
         let want = fixture(case, &format!("coeffs_level{k}.f64"));
-        let got: Vec<f64> = p.highpasses[k - 1].iter().flat_map(|c| [c.re, c.im]).collect();
-        assert_eq!(got.len() / 2, s["highpass_lengths"][k - 1].as_u64().unwrap() as usize, "{case} level {k} length");
+        let got: Vec<f64> = p.highpasses[k - 1]
+            .iter()
+            .flat_map(|c| [c.re, c.im])
+            .collect();
+        assert_eq!(
+            got.len() / 2,
+            s["highpass_lengths"][k - 1].as_u64().unwrap() as usize,
+            "{case} level {k} length"
+        );
         let d = max_abs_diff(&got, &want);
-        assert!(d < GOLDEN_TOL, "{case}: level {k} coefficients differ by {d}");
+        assert!(
+            d < GOLDEN_TOL,
+            "{case}: level {k} coefficients differ by {d}"
+        );
     }
     let d = max_abs_diff(&p.lowpass, &fixture(case, "lowpass.f64"));
     assert!(d < GOLDEN_TOL, "{case}: lowpass differs by {d}");
 
     let comps = t.components(&p);
     for k in 1..=levels {
-        let d = max_abs_diff(&comps.levels[k - 1], &fixture(case, &format!("component_level{k}.f64")));
+        let d = max_abs_diff(
+            &comps.levels[k - 1],
+            &fixture(case, &format!("component_level{k}.f64")),
+        );
         assert!(d < GOLDEN_TOL, "{case}: level {k} component differs by {d}");
     }
     let d = max_abs_diff(&comps.lowpass, &fixture(case, "component_lowpass.f64"));
@@ -60,7 +93,10 @@ fn check_golden(case: &str, biort: &str, qshift: &str) {
     for k in 1..=levels {
         let want = s["kurtosis_pearson"][k - 1].as_f64().unwrap();
         let got = bearing_sim::signal::kurtosis::kurtosis(&comps.levels[k - 1]);
-        assert!(((got - want) / want).abs() < 1e-9, "{case}: level {k} kurtosis {got} vs {want}");
+        assert!(
+            ((got - want) / want).abs() < 1e-9,
+            "{case}: level {k} kurtosis {got} vs {want}"
+        );
     }
 
     // Components sum to the input: 1e-12 (the reference reaches ~1e-15; this leaves room

@@ -12,17 +12,25 @@ fn am_envelope_is_recovered() {
     // FFTs (~1e-13). We check the 1e-6 away from the ends (first/last 5 %).
     let (fs, n) = (8000.0, 8000);
     let (fc, fm, m) = (1234.0, 17.0, 0.6);
-    let want: Vec<f64> = (0..n).map(|i| 1.0 + m * (2.0 * PI * fm * i as f64 / fs + 0.4).cos()).collect();
-    let x: Vec<f64> = (0..n).map(|i| want[i] * (2.0 * PI * fc * i as f64 / fs).cos()).collect();
+    let want: Vec<f64> = (0..n)
+        .map(|i| 1.0 + m * (2.0 * PI * fm * i as f64 / fs + 0.4).cos())
+        .collect();
+    let x: Vec<f64> = (0..n)
+        .map(|i| want[i] * (2.0 * PI * fc * i as f64 / fs).cos())
+        .collect();
     let e = envelope(&x);
-    let err = (n / 20..n - n / 20).map(|i| (e[i] - want[i]).abs()).fold(0.0, f64::max);
+    let err = (n / 20..n - n / 20)
+        .map(|i| (e[i] - want[i]).abs())
+        .fold(0.0, f64::max);
     assert!(err < 1e-6, "envelope error {err}");
 
     // same through a band-pass around the carrier (the whole AM signal lies in 1100-1400 Hz)
     let mut plan = HilbertPlan::new(n);
     let mut eb = Vec::new();
     plan.envelope_into(&x, fs, Some([1100.0, 1400.0]), &mut eb);
-    let err = (n / 20..n - n / 20).map(|i| (eb[i] - want[i]).abs()).fold(0.0, f64::max);
+    let err = (n / 20..n - n / 20)
+        .map(|i| (eb[i] - want[i]).abs())
+        .fold(0.0, f64::max);
     assert!(err < 1e-6, "band-passed envelope error {err}");
 }
 
@@ -34,10 +42,16 @@ fn am_envelope_non_periodic_record_is_accurate_away_from_the_ends() {
     // user drop the ends.
     let (fs, n) = (8000.0, 1 << 16);
     let (fc, fm, m) = (1234.37, 17.3, 0.6);
-    let want: Vec<f64> = (0..n).map(|i| 1.0 + m * (2.0 * PI * fm * i as f64 / fs).cos()).collect();
-    let x: Vec<f64> = (0..n).map(|i| want[i] * (2.0 * PI * fc * i as f64 / fs).cos()).collect();
+    let want: Vec<f64> = (0..n)
+        .map(|i| 1.0 + m * (2.0 * PI * fm * i as f64 / fs).cos())
+        .collect();
+    let x: Vec<f64> = (0..n)
+        .map(|i| want[i] * (2.0 * PI * fc * i as f64 / fs).cos())
+        .collect();
     let e = envelope(&x);
-    let err = (n / 4..3 * n / 4).map(|i| (e[i] - want[i]).abs()).fold(0.0, f64::max);
+    let err = (n / 4..3 * n / 4)
+        .map(|i| (e[i] - want[i]).abs())
+        .fold(0.0, f64::max);
     assert!(err < 1e-3, "envelope error {err}");
 }
 

@@ -20,7 +20,9 @@
 mod common;
 
 use bearing_sim::signal::kurtosis::kurtosis;
-use bearing_sim::signal::{analyze, characteristic_frequencies, kinematic_preset, AnalysisOptions, AnalysisReport};
+use bearing_sim::signal::{
+    analyze, characteristic_frequencies, kinematic_preset, AnalysisOptions, AnalysisReport,
+};
 use common::{add_noise, impulse_train, Rng};
 
 const FS: f64 = 51_200.0;
@@ -52,9 +54,14 @@ fn inner_train() -> Vec<f64> {
 fn run(mut x: Vec<f64>, sigma: f64, seed: u64) -> AnalysisReport {
     add_noise(&mut x, sigma, &mut Rng::new(seed));
     let k = kurtosis(&x);
-    assert!(k < HIDDEN_KURTOSIS, "raw kurtosis {k} still shows the impulses; more noise needed");
+    assert!(
+        k < HIDDEN_KURTOSIS,
+        "raw kurtosis {k} still shows the impulses; more noise needed"
+    );
     let g = kinematic_preset("h7005c").unwrap();
-    analyze(&x, FS, &g, SHAFT_HZ, &AnalysisOptions::default()).unwrap().report
+    analyze(&x, FS, &g, SHAFT_HZ, &AnalysisOptions::default())
+        .unwrap()
+        .report
 }
 
 /// Best identification of `name` (fundamental) among the given components' reports.
@@ -64,14 +71,24 @@ fn found(report: &AnalysisReport, name: &str, truth: f64, use_runner_up: bool) -
         comps.push(&report.runner_up_component);
     }
     comps.iter().any(|c| {
-        c.identifications.iter().filter(|i| i.name == name).any(|i| {
-            let err = (i.identified_hz - truth).abs() / truth * 100.0;
-            eprintln!(
-                "level {} {} x{}: {:.3} Hz (truth {:.3}), {:.4} %, {:.1} dB, detected {}",
-                c.level, i.name, i.harmonic, i.identified_hz, truth, err, i.prominence_db, i.detected
-            );
-            i.harmonic == 1 && i.detected && err < FREQ_TOL_PCT
-        })
+        c.identifications
+            .iter()
+            .filter(|i| i.name == name)
+            .any(|i| {
+                let err = (i.identified_hz - truth).abs() / truth * 100.0;
+                eprintln!(
+                    "level {} {} x{}: {:.3} Hz (truth {:.3}), {:.4} %, {:.1} dB, detected {}",
+                    c.level,
+                    i.name,
+                    i.harmonic,
+                    i.identified_hz,
+                    truth,
+                    err,
+                    i.prominence_db,
+                    i.detected
+                );
+                i.harmonic == 1 && i.detected && err < FREQ_TOL_PCT
+            })
     })
 }
 
@@ -80,7 +97,11 @@ fn raw_trains_are_impulsive_before_the_noise() {
     // the premise: without noise the impulses dominate the kurtosis
     let (ko, ki) = (kurtosis(&outer_train()), kurtosis(&inner_train()));
     let rms = |x: &[f64]| (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt();
-    eprintln!("clean kurtosis outer {ko} inner {ki}, rms {} {}", rms(&outer_train()), rms(&inner_train()));
+    eprintln!(
+        "clean kurtosis outer {ko} inner {ki}, rms {} {}",
+        rms(&outer_train()),
+        rms(&inner_train())
+    );
     assert!(ko > 6.0 && ki > 6.0);
 }
 
@@ -88,19 +109,31 @@ fn raw_trains_are_impulsive_before_the_noise() {
 fn outer_race_fault_is_identified_from_the_max_kurtosis_component() {
     let r = run(outer_train(), 0.5, 1);
     eprintln!("level kurtosis {:?}", r.level_kurtosis);
-    assert!(found(&r, "BPFO", truths().0, false), "BPFO not identified in level {}", r.best_component.level);
+    assert!(
+        found(&r, "BPFO", truths().0, false),
+        "BPFO not identified in level {}",
+        r.best_component.level
+    );
 }
 
 #[test]
 fn inner_race_fault_is_identified_from_the_max_kurtosis_component() {
     let r = run(inner_train(), 0.5, 2);
     eprintln!("level kurtosis {:?}", r.level_kurtosis);
-    assert!(found(&r, "BPFI", truths().1, false), "BPFI not identified in level {}", r.best_component.level);
+    assert!(
+        found(&r, "BPFI", truths().1, false),
+        "BPFI not identified in level {}",
+        r.best_component.level
+    );
 }
 
 #[test]
 fn compound_fault_is_identified_from_the_first_two_components() {
-    let x: Vec<f64> = outer_train().iter().zip(inner_train()).map(|(a, b)| a + b).collect();
+    let x: Vec<f64> = outer_train()
+        .iter()
+        .zip(inner_train())
+        .map(|(a, b)| a + b)
+        .collect();
     let r = run(x, 0.5, 3);
     eprintln!("level kurtosis {:?}", r.level_kurtosis);
     let (bpfo, bpfi) = truths();

@@ -5,7 +5,9 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use bearing_sim::signal::io::{read_signal, SignalFormat};
-use bearing_sim::signal::{analyze, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry};
+use bearing_sim::signal::{
+    analyze, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
+};
 use serde::{Deserialize, Serialize};
 
 use super::CliResult;
@@ -67,9 +69,14 @@ fn parse_format(s: &str) -> Result<SignalFormat, String> {
 fn parse_pair(s: &str) -> Result<[f64; 2], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     if parts.len() != 2 {
-        return Err(format!("expected two comma-separated numbers A,B (got '{s}')"));
+        return Err(format!(
+            "expected two comma-separated numbers A,B (got '{s}')"
+        ));
     }
-    let num = |p: &str| p.parse::<f64>().map_err(|_| format!("'{p}' is not a number"));
+    let num = |p: &str| {
+        p.parse::<f64>()
+            .map_err(|_| format!("'{p}' is not a number"))
+    };
     Ok([num(parts[0])?, num(parts[1])?])
 }
 
@@ -94,7 +101,8 @@ fn load_bearing(spec: &str) -> Result<KinematicGeometry, String> {
             kinematic_preset_names().join(", ")
         ));
     }
-    let text = std::fs::read_to_string(path).map_err(|e| format!("--bearing {spec}: cannot read: {e}"))?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| format!("--bearing {spec}: cannot read: {e}"))?;
     let b: BearingFile = serde_json::from_str(&text).map_err(|e| {
         format!(
             "--bearing {spec}: {e} (expected {{\"ball_count\", \"ball_diameter\" m, \"pitch_diameter\" m, \"contact_angle\" rad}})"
@@ -106,7 +114,8 @@ fn load_bearing(spec: &str) -> Result<KinematicGeometry, String> {
         pitch_diameter: b.pitch_diameter,
         contact_angle: b.contact_angle,
     };
-    g.validate().map_err(|(f, m)| format!("--bearing {spec}: {f}: {m}"))?;
+    g.validate()
+        .map_err(|(f, m)| format!("--bearing {spec}: {f}: {m}"))?;
     Ok(g)
 }
 
@@ -122,7 +131,11 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         return Err(format!("--fs: must be a sample rate > 0 Hz (got {})", args.fs).into());
     }
     if !(args.rpm.is_finite() && args.rpm > 0.0) {
-        return Err(format!("--rpm: must be a shaft speed > 0 rev/min (got {})", args.rpm).into());
+        return Err(format!(
+            "--rpm: must be a shaft speed > 0 rev/min (got {})",
+            args.rpm
+        )
+        .into());
     }
     let geometry = load_bearing(&args.bearing)?;
     let samples = read_signal(&args.file, args.format)?;
@@ -140,8 +153,12 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
     let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;
     if let Some(path) = &args.spectra_out {
-        let f = SpectraFile { raw: &out.raw_spectrum, levels: &out.level_spectra };
-        std::fs::write(path, serde_json::to_vec(&f)?).map_err(|e| format!("--spectra-out {}: {e}", path.display()))?;
+        let f = SpectraFile {
+            raw: &out.raw_spectrum,
+            levels: &out.level_spectra,
+        };
+        std::fs::write(path, serde_json::to_vec(&f)?)
+            .map_err(|e| format!("--spectra-out {}: {e}", path.display()))?;
     }
     let text = serde_json::to_string_pretty(&out.report)?;
     let mut stdout = std::io::stdout().lock();

@@ -36,19 +36,31 @@ pub enum BenchWhat {
 pub fn main(args: BenchArgs) -> CliResult {
     match args.what {
         BenchWhat::Cases { duration } => cases(duration),
-        BenchWhat::WorkPrecision { duration, tolerances } => work_precision(duration, &tolerances),
+        BenchWhat::WorkPrecision {
+            duration,
+            tolerances,
+        } => work_precision(duration, &tolerances),
     }
 }
 
 fn cases(duration: f64) -> CliResult {
     println!("| case | wall time (s) | accepted | rejected | RHS evaluations | smallest step (s) | largest step (s) | mean cage speed (rad/s) | slip (%) |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for case in [FaultCase::None, FaultCase::Inner, FaultCase::Outer, FaultCase::Compound] {
+    for case in [
+        FaultCase::None,
+        FaultCase::Inner,
+        FaultCase::Outer,
+        FaultCase::Compound,
+    ] {
         let mut s = fault_case_scene("h7005c", case).expect("preset");
         s.solver.duration = duration;
         let r = simulate(&s, RunControl::default())?;
         let st = &r.summary.stats;
-        let finite = r.channels.channels.iter().all(|c| c.data.iter().all(|v| v.is_finite()));
+        let finite = r
+            .channels
+            .channels
+            .iter()
+            .all(|c| c.data.iter().all(|v| v.is_finite()));
         if !finite {
             return Err(format!("{case:?}: non-finite samples").into());
         }
@@ -82,12 +94,17 @@ fn band_rms(r: &SimResult) -> f64 {
     use realfft::RealFftPlanner;
     let fs = r.channels.sample_rate;
     let w0 = (r.summary.steady_window[0] * fs) as usize;
-    let x = &r.channels.get("outer_ring_accel_z").expect("always recorded").data[w0..];
+    let x = &r
+        .channels
+        .get("outer_ring_accel_z")
+        .expect("always recorded")
+        .data[w0..];
     let n = x.len();
     let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(n);
     let mut input = x.to_vec();
     let mut spec = fwd.make_output_vec();
-    fwd.process(&mut input, &mut spec).expect("sizes from the plan");
+    fwd.process(&mut input, &mut spec)
+        .expect("sizes from the plan");
     let mut e = 0.0;
     for (k, c) in spec.iter().enumerate().skip(1) {
         if k as f64 * fs / n as f64 > 20e3 {
@@ -119,7 +136,11 @@ fn work_precision(duration: f64, tolerances: &[f64]) -> CliResult {
             (band_rms(r) - r_ref).abs() / r_ref
         )
     };
-    row("reference (adaptive)", format!("{:.0e}", tightest / 100.0), &reference);
+    row(
+        "reference (adaptive)",
+        format!("{:.0e}", tightest / 100.0),
+        &reference,
+    );
     row("fixed RK4", "1e-6 s".into(), &check);
     for &t in tolerances {
         let r = simulate(&scene(duration, t), RunControl::default())?;

@@ -83,6 +83,8 @@ pub struct AdaptiveRk4 {
     pub scale: Vec<f64>,
     /// Components whose relative part uses the scale instead of |y| (unbounded phases).
     pub phase: Vec<bool>,
+    prev_err: f64,
+    just_rejected: bool,
 }
 
 impl AdaptiveRk4 {
@@ -95,6 +97,8 @@ impl AdaptiveRk4 {
             atol,
             scale,
             phase,
+            prev_err: 1.0,
+            just_rejected: false,
         }
     }
 
@@ -144,6 +148,30 @@ impl AdaptiveRk4 {
             sum += e * e;
         }
         (sum / n as f64).sqrt()
+    }
+
+    /// Step-size factor after an accepted step: a PI controller (Gustafsson) on the error
+    /// norms of this and the previous accepted step, which keeps a stability-limited step
+    /// from oscillating across the limit; no growth right after a rejection.
+    pub fn accept_factor(&mut self, err: f64) -> f64 {
+        let e = err.max(1e-10);
+        let mut f = 0.9 * e.powf(-0.7 / 5.0) * self.prev_err.powf(0.4 / 5.0);
+        if self.just_rejected {
+            f = f.min(1.0);
+        }
+        self.prev_err = e;
+        self.just_rejected = false;
+        f.clamp(0.2, 4.0)
+    }
+
+    /// Step-size factor after a rejected step.
+    pub fn reject_factor(&mut self, err: f64) -> f64 {
+        self.just_rejected = true;
+        if err.is_finite() {
+            Self::factor(err)
+        } else {
+            0.1
+        }
     }
 
     /// Step-size factor for an error norm (local error of the 4th-order solution is O(h^5)).

@@ -236,12 +236,7 @@ pub fn integrate(
             let err = adaptive.attempt(&mut sys, t, &y, &f, h_try, &mut stats);
             if !(err <= 1.0) {
                 stats.rejected += 1;
-                h = h_try
-                    * if err.is_finite() {
-                        AdaptiveRk4::factor(err)
-                    } else {
-                        0.1
-                    };
+                h = h_try * adaptive.reject_factor(err);
                 if h < h_min {
                     return Err(SimError::Numerical {
                         time: t,
@@ -250,7 +245,7 @@ pub fn integrate(
                 }
                 continue;
             }
-            h = h_try * AdaptiveRk4::factor(err);
+            h = h_try * adaptive.accept_factor(err);
             &adaptive.y_new
         };
         y_next.copy_from_slice(y_new);

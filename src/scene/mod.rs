@@ -346,6 +346,10 @@ pub fn adore_to_abcd(mu0: f64, mu_max: f64, mu_inf: f64, u_m: f64) -> (f64, f64,
     (a, b, c, d)
 }
 
+fn default_contact_damping_ratio() -> f64 {
+    0.05
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -373,8 +377,4 @@ mod tests {
         assert!((b - 0.1506).abs() / 0.1506 < 1e-3, "b = {b}");
         assert!((c - 1.306).abs() / 1.306 < 1e-3, "c = {c}");
     }
-}
-
-fn default_contact_damping_ratio() -> f64 {
-    0.05
 }

@@ -7,7 +7,9 @@
 use serde::{Deserialize, Serialize};
 
 use super::dtcwt::{min_length, Dtcwt1d, DtcwtError};
-use super::frequencies::{characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry};
+use super::frequencies::{
+    characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry,
+};
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
 use super::kurtosis::kurtosis;
 use super::spectrum::EnvelopeSpectrumPlan;
@@ -126,20 +128,37 @@ pub enum AnalysisError {
     #[error("samples[{index}]: not a finite number")]
     NonFinite { index: usize },
     #[error("samples: {n} samples is too short for {levels} levels (need >= {need})")]
-    TooShort { n: usize, levels: usize, need: usize },
+    TooShort {
+        n: usize,
+        levels: usize,
+        need: usize,
+    },
 }
 
 fn invalid(field: &str, message: impl Into<String>) -> AnalysisError {
-    AnalysisError::Invalid { field: field.into(), message: message.into() }
+    AnalysisError::Invalid {
+        field: field.into(),
+        message: message.into(),
+    }
 }
 
 impl From<DtcwtError> for AnalysisError {
     fn from(e: DtcwtError) -> Self {
         match e {
-            DtcwtError::UnknownFilter { field, name, expected } => {
-                invalid(field, format!("unknown filter set '{name}' (expected one of {})", expected.join(", ")))
+            DtcwtError::UnknownFilter {
+                field,
+                name,
+                expected,
+            } => invalid(
+                field,
+                format!(
+                    "unknown filter set '{name}' (expected one of {})",
+                    expected.join(", ")
+                ),
+            ),
+            DtcwtError::Levels { levels } => {
+                invalid("levels", format!("must be >= 1 (got {levels})"))
             }
-            DtcwtError::Levels { levels } => invalid("levels", format!("must be >= 1 (got {levels})")),
             DtcwtError::TooShort { n, levels, need } => AnalysisError::TooShort { n, levels, need },
         }
     }
@@ -161,9 +180,14 @@ pub fn analyze(
         return Err(invalid("sample_rate", format!("must be > 0 Hz (got {fs})")));
     }
     if !(shaft_hz.is_finite() && shaft_hz > 0.0) {
-        return Err(invalid("shaft_hz", format!("must be > 0 Hz (got {shaft_hz})")));
+        return Err(invalid(
+            "shaft_hz",
+            format!("must be > 0 Hz (got {shaft_hz})"),
+        ));
     }
-    geometry.validate().map_err(|(f, m)| invalid(&format!("geometry.{f}"), m))?;
+    geometry
+        .validate()
+        .map_err(|(f, m)| invalid(&format!("geometry.{f}"), m))?;
     validate_options(opts, fs)?;
     if let Some(index) = signal.iter().position(|v| !v.is_finite()) {
         return Err(AnalysisError::NonFinite { index });
@@ -174,10 +198,16 @@ pub fn analyze(
         None => (0, signal.len()),
         Some([t0, t1]) => {
             if !(t0.is_finite() && t1.is_finite() && t0 >= 0.0 && t1 > t0) {
-                return Err(invalid("window", format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])")));
+                return Err(invalid(
+                    "window",
+                    format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])"),
+                ));
             }
             if t0 >= duration {
-                return Err(invalid("window", format!("starts at {t0} s, after the end of the signal ({duration} s)")));
+                return Err(invalid(
+                    "window",
+                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
+                ));
             }
             let i0 = (t0 * fs).round() as usize;
             let i1 = ((t1 * fs).round() as usize).min(signal.len());
@@ -190,10 +220,18 @@ pub fn analyze(
         return Err(if opts.window.is_some() {
             invalid(
                 "window",
-                format!("holds {} samples, too short for {} levels (need >= {need})", x.len(), opts.levels),
+                format!(
+                    "holds {} samples, too short for {} levels (need >= {need})",
+                    x.len(),
+                    opts.levels
+                ),
             )
         } else {
-            AnalysisError::TooShort { n: x.len(), levels: opts.levels, need }
+            AnalysisError::TooShort {
+                n: x.len(),
+                levels: opts.levels,
+                need,
+            }
         });
     }
 
@@ -206,12 +244,17 @@ pub fn analyze(
 
     let transform = Dtcwt1d::new(&opts.biort, &opts.qshift)?;
     let pyramid = transform.forward(x, opts.levels)?;
-    let components: Vec<Vec<f64>> = (1..=opts.levels).map(|l| transform.level_component(&pyramid, l)).collect();
+    let components: Vec<Vec<f64>> = (1..=opts.levels)
+        .map(|l| transform.level_component(&pyramid, l))
+        .collect();
     let level_kurtosis: Vec<f64> = components.iter().map(|c| kurtosis(c)).collect();
 
     let mut plan = EnvelopeSpectrumPlan::new(x.len());
     let raw_spectrum = plan.compute(x, fs, opts.band);
-    let level_spectra: Vec<Spectrum> = components.iter().map(|c| plan.compute(c, fs, None)).collect();
+    let level_spectra: Vec<Spectrum> = components
+        .iter()
+        .map(|c| plan.compute(c, fs, None))
+        .collect();
 
     let mut order: Vec<usize> = (0..opts.levels).collect();
     order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
@@ -229,7 +272,11 @@ pub fn analyze(
     let best_component = component_report(order[0]);
     // With a single level there is no runner-up: the best one is repeated.
     let runner_up_component = component_report(*order.get(1).unwrap_or(&order[0]));
-    let all_levels = if opts.report_all_levels { (0..opts.levels).map(component_report).collect() } else { Vec::new() };
+    let all_levels = if opts.report_all_levels {
+        (0..opts.levels).map(component_report).collect()
+    } else {
+        Vec::new()
+    };
 
     let raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
@@ -249,21 +296,40 @@ pub fn analyze(
         runner_up_component,
         all_levels,
     };
-    Ok(AnalysisOutput { report, raw_spectrum, level_spectra })
+    Ok(AnalysisOutput {
+        report,
+        raw_spectrum,
+        level_spectra,
+    })
 }
 
 fn validate_options(opts: &AnalysisOptions, fs: f64) -> Result<(), AnalysisError> {
     if opts.levels == 0 || opts.levels > MAX_LEVELS {
-        return Err(invalid("levels", format!("must be in 1..={MAX_LEVELS} (got {})", opts.levels)));
+        return Err(invalid(
+            "levels",
+            format!("must be in 1..={MAX_LEVELS} (got {})", opts.levels),
+        ));
     }
-    if !(opts.search_band_pct.is_finite() && opts.search_band_pct > 0.0 && opts.search_band_pct <= 50.0) {
-        return Err(invalid("search_band_pct", format!("must be in (0, 50] % (got {})", opts.search_band_pct)));
+    if !(opts.search_band_pct.is_finite()
+        && opts.search_band_pct > 0.0
+        && opts.search_band_pct <= 50.0)
+    {
+        return Err(invalid(
+            "search_band_pct",
+            format!("must be in (0, 50] % (got {})", opts.search_band_pct),
+        ));
     }
     if opts.harmonics == 0 || opts.harmonics > 50 {
-        return Err(invalid("harmonics", format!("must be in 1..=50 (got {})", opts.harmonics)));
+        return Err(invalid(
+            "harmonics",
+            format!("must be in 1..=50 (got {})", opts.harmonics),
+        ));
     }
     if !opts.detection_threshold_db.is_finite() {
-        return Err(invalid("detection_threshold_db", "must be a finite number of dB"));
+        return Err(invalid(
+            "detection_threshold_db",
+            "must be a finite number of dB",
+        ));
     }
     if let Some([f0, f1]) = opts.band {
         let nyq = fs / 2.0;
@@ -294,7 +360,10 @@ pub fn analyze_simulation(
     channel: &str,
     opts: &AnalysisOptions,
 ) -> Result<AnalysisOutput, AnalysisError> {
-    let ch = result.channels.get(channel).ok_or_else(|| invalid("channel", format!("no channel named '{channel}'")))?;
+    let ch = result
+        .channels
+        .get(channel)
+        .ok_or_else(|| invalid("channel", format!("no channel named '{channel}'")))?;
     let fs = result.channels.sample_rate;
     let start = result.channels.start_time;
     let mean_speed = result.summary.mean_shaft_speed;
@@ -310,11 +379,20 @@ pub fn analyze_simulation(
         o.window = Some(if s1 > s0 {
             [(s0 - start).max(0.0), (s1 - start).min(duration)]
         } else {
-            let w = simulation_window(scene.operating.speed.ramp_time + start, scene.solver.duration);
+            let w = simulation_window(
+                scene.operating.speed.ramp_time + start,
+                scene.solver.duration,
+            );
             [(w[0] - start).max(0.0), (w[1] - start).min(duration)]
         });
     }
-    analyze(&ch.data, fs, &KinematicGeometry::from_bearing(&scene.bearing), shaft_hz, &o)
+    analyze(
+        &ch.data,
+        fs,
+        &KinematicGeometry::from_bearing(&scene.bearing),
+        shaft_hz,
+        &o,
+    )
 }
 
 #[cfg(test)]
@@ -331,7 +409,10 @@ mod tests {
         let o = AnalysisOptions::default();
         let x = vec![0.0; 1000];
         let msg = |r: Result<AnalysisOutput, AnalysisError>| r.unwrap_err().to_string();
-        assert_eq!(msg(analyze(&x, 0.0, &g, 30.0, &o)), "sample_rate: must be > 0 Hz (got 0)");
+        assert_eq!(
+            msg(analyze(&x, 0.0, &g, 30.0, &o)),
+            "sample_rate: must be > 0 Hz (got 0)"
+        );
         assert!(msg(analyze(&x, 1e3, &g, -1.0, &o)).starts_with("shaft_hz:"));
         assert_eq!(
             msg(analyze(&x[..12], 1e3, &g, 30.0, &o)),
@@ -339,22 +420,44 @@ mod tests {
         );
         let mut y = x.clone();
         y[17] = f64::NAN;
-        assert_eq!(msg(analyze(&y, 1e3, &g, 30.0, &o)), "samples[17]: not a finite number");
-        let bad = AnalysisOptions { window: Some([0.5, 0.2]), ..o.clone() };
+        assert_eq!(
+            msg(analyze(&y, 1e3, &g, 30.0, &o)),
+            "samples[17]: not a finite number"
+        );
+        let bad = AnalysisOptions {
+            window: Some([0.5, 0.2]),
+            ..o.clone()
+        };
         assert!(msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("window:"));
-        let bad = AnalysisOptions { biort: "nope".into(), ..o.clone() };
-        assert!(msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("biort: unknown filter set 'nope'"));
-        let bad = AnalysisOptions { band: Some([600.0, 700.0]), ..o.clone() };
+        let bad = AnalysisOptions {
+            biort: "nope".into(),
+            ..o.clone()
+        };
+        assert!(
+            msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("biort: unknown filter set 'nope'")
+        );
+        let bad = AnalysisOptions {
+            band: Some([600.0, 700.0]),
+            ..o.clone()
+        };
         assert!(msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("band:"));
-        let bad_g = KinematicGeometry { pitch_diameter: 0.001, ..g };
+        let bad_g = KinematicGeometry {
+            pitch_diameter: 0.001,
+            ..g
+        };
         assert!(msg(analyze(&x, 1e3, &bad_g, 30.0, &o)).starts_with("geometry.pitch_diameter:"));
     }
 
     #[test]
     fn window_selects_samples_and_is_reported() {
         let g = geometry();
-        let x: Vec<f64> = (0..4000).map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0).collect();
-        let o = AnalysisOptions { window: Some([1.0, 3.0]), ..Default::default() };
+        let x: Vec<f64> = (0..4000)
+            .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+            .collect();
+        let o = AnalysisOptions {
+            window: Some([1.0, 3.0]),
+            ..Default::default()
+        };
         let out = analyze(&x, 1000.0, &g, 30.0, &o).unwrap();
         assert_eq!(out.report.n_samples, 2000);
         assert_eq!(out.report.window, [1.0, 3.0]);
@@ -371,31 +474,63 @@ mod tests {
         scene.solver.duration = 1.2;
         let fs = 20_000.0;
         // a huge transient during the ramp, then a steady tone
-        let data: Vec<f64> = (0..24_000).map(|i| if i < 4_000 { 1e3 } else { (i as f64 * 0.3).sin() }).collect();
+        let data: Vec<f64> = (0..24_000)
+            .map(|i| {
+                if i < 4_000 {
+                    1e3
+                } else {
+                    (i as f64 * 0.3).sin()
+                }
+            })
+            .collect();
         let result = SimResult {
             summary: Summary::default(),
             channels: Channels {
                 sample_rate: fs,
                 start_time: 0.0,
-                channels: vec![Channel { name: "outer_ring_accel_y".into(), unit: "m/s^2".into(), data }],
+                channels: vec![Channel {
+                    name: "outer_ring_accel_y".into(),
+                    unit: "m/s^2".into(),
+                    data,
+                }],
             },
         };
-        let out = analyze_simulation(&result, &scene, "outer_ring_accel_y", &AnalysisOptions::default()).unwrap();
+        let out = analyze_simulation(
+            &result,
+            &scene,
+            "outer_ring_accel_y",
+            &AnalysisOptions::default(),
+        )
+        .unwrap();
         // default window: ramp end 0.2 s + 10 % of the remaining 1.0 s -> [0.3, 1.2]
-        assert!((out.report.window[0] - 0.3).abs() < 1e-9 && (out.report.window[1] - 1.2).abs() < 1e-9);
+        assert!(
+            (out.report.window[0] - 0.3).abs() < 1e-9 && (out.report.window[1] - 1.2).abs() < 1e-9
+        );
         assert!((out.report.shaft_hz - scene.operating.speed.steady_rpm / 60.0).abs() < 1e-9);
         assert!(out.report.raw_kurtosis < 2.0, "ramp transient excluded");
-        let e = analyze_simulation(&result, &scene, "nope", &AnalysisOptions::default()).unwrap_err();
+        let e =
+            analyze_simulation(&result, &scene, "nope", &AnalysisOptions::default()).unwrap_err();
         assert_eq!(e.to_string(), "channel: no channel named 'nope'");
     }
 
     #[test]
     fn all_levels_on_request() {
-        let x: Vec<f64> = (0..4096).map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0).collect();
-        let o = AnalysisOptions { report_all_levels: true, levels: 4, ..Default::default() };
+        let x: Vec<f64> = (0..4096)
+            .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+            .collect();
+        let o = AnalysisOptions {
+            report_all_levels: true,
+            levels: 4,
+            ..Default::default()
+        };
         let r = analyze(&x, 1000.0, &geometry(), 30.0, &o).unwrap().report;
-        assert_eq!(r.all_levels.iter().map(|c| c.level).collect::<Vec<_>>(), vec![1, 2, 3, 4]);
-        let r = analyze(&x, 1000.0, &geometry(), 30.0, &AnalysisOptions::default()).unwrap().report;
+        assert_eq!(
+            r.all_levels.iter().map(|c| c.level).collect::<Vec<_>>(),
+            vec![1, 2, 3, 4]
+        );
+        let r = analyze(&x, 1000.0, &geometry(), 30.0, &AnalysisOptions::default())
+            .unwrap()
+            .report;
         assert!(r.all_levels.is_empty());
     }
 

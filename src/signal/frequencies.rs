@@ -43,7 +43,10 @@ impl KinematicGeometry {
 
     /// The same bearing at another (e.g. measured or simulated running) contact angle, rad.
     pub fn with_contact_angle(self, contact_angle: f64) -> Self {
-        KinematicGeometry { contact_angle, ..self }
+        KinematicGeometry {
+            contact_angle,
+            ..self
+        }
     }
 
     /// Check that the numbers describe a ball bearing; the error names the offending field.
@@ -52,16 +55,27 @@ impl KinematicGeometry {
             return Err(("ball_count", "must be >= 1".into()));
         }
         if !(self.ball_diameter.is_finite() && self.ball_diameter > 0.0) {
-            return Err(("ball_diameter", format!("must be a finite length > 0 m (got {})", self.ball_diameter)));
+            return Err((
+                "ball_diameter",
+                format!("must be a finite length > 0 m (got {})", self.ball_diameter),
+            ));
         }
         if !(self.pitch_diameter.is_finite() && self.pitch_diameter > self.ball_diameter) {
             return Err((
                 "pitch_diameter",
-                format!("must be > ball_diameter = {} m (got {})", self.ball_diameter, self.pitch_diameter),
+                format!(
+                    "must be > ball_diameter = {} m (got {})",
+                    self.ball_diameter, self.pitch_diameter
+                ),
             ));
         }
-        if !(self.contact_angle.is_finite() && (0.0..std::f64::consts::FRAC_PI_2).contains(&self.contact_angle)) {
-            return Err(("contact_angle", format!("must be in [0, pi/2) rad (got {})", self.contact_angle)));
+        if !(self.contact_angle.is_finite()
+            && (0.0..std::f64::consts::FRAC_PI_2).contains(&self.contact_angle))
+        {
+            return Err((
+                "contact_angle",
+                format!("must be in [0, pi/2) rad (got {})", self.contact_angle),
+            ));
         }
         Ok(())
     }
@@ -80,7 +94,8 @@ pub fn kinematic_preset_names() -> &'static [&'static str] {
 pub fn kinematic_preset(name: &str) -> Option<KinematicGeometry> {
     const INCH: f64 = 0.0254;
     match name.to_ascii_lowercase().as_str() {
-        "h7005c" => crate::scene::preset_scene("h7005c").map(|s| KinematicGeometry::from_bearing(&s.bearing)),
+        "h7005c" => crate::scene::preset_scene("h7005c")
+            .map(|s| KinematicGeometry::from_bearing(&s.bearing)),
         "cwru6205" => Some(KinematicGeometry {
             ball_count: 9,
             ball_diameter: 0.3126 * INCH,
@@ -111,13 +126,22 @@ pub struct CharacteristicFrequencies {
 impl CharacteristicFrequencies {
     /// `(name, frequency in Hz)` in report order: BPFO, BPFI, FTF, BSF, 2xBSF.
     pub fn named(&self) -> [(&'static str, f64); 5] {
-        [("BPFO", self.bpfo), ("BPFI", self.bpfi), ("FTF", self.ftf), ("BSF", self.bsf), ("2xBSF", self.bsf2)]
+        [
+            ("BPFO", self.bpfo),
+            ("BPFI", self.bpfi),
+            ("FTF", self.ftf),
+            ("BSF", self.bsf),
+            ("2xBSF", self.bsf2),
+        ]
     }
 }
 
 /// Characteristic frequencies of `g` at shaft frequency `shaft_hz` (Hz), using `g.contact_angle`
 /// (pass `g.with_contact_angle(actual)` for a running angle other than the nominal one).
-pub fn characteristic_frequencies(g: &KinematicGeometry, shaft_hz: f64) -> CharacteristicFrequencies {
+pub fn characteristic_frequencies(
+    g: &KinematicGeometry,
+    shaft_hz: f64,
+) -> CharacteristicFrequencies {
     let ratio = g.ball_diameter / g.pitch_diameter * g.contact_angle.cos();
     let z = g.ball_count as f64;
     let ftf = 0.5 * shaft_hz * (1.0 - ratio);
@@ -156,7 +180,12 @@ mod tests {
         let f = characteristic_frequencies(&g, 1.0);
         // CWRU publishes 4-5 significant figures: BPFI 5.4152, BPFO 3.5848, FTF 0.39828,
         // BSF 2.357 (2xBSF 4.7135); 1e-4 relative covers the published rounding.
-        for (got, want) in [(f.bpfi, 5.4152), (f.bpfo, 3.5848), (f.ftf, 0.39828), (f.bsf2, 4.7135)] {
+        for (got, want) in [
+            (f.bpfi, 5.4152),
+            (f.bpfo, 3.5848),
+            (f.ftf, 0.39828),
+            (f.bsf2, 4.7135),
+        ] {
             assert!(((got - want) / want).abs() < 1e-4, "{got} vs {want}");
         }
     }
@@ -169,6 +198,8 @@ mod tests {
         // a larger contact angle shortens the effective ball lever: BPFO up, BPFI down
         assert!(loaded.bpfo > nominal.bpfo && loaded.bpfi < nominal.bpfi);
         assert!(kinematic_preset("nope").is_none());
-        assert!(kinematic_preset_names().iter().all(|n| kinematic_preset(n).is_some()));
+        assert!(kinematic_preset_names()
+            .iter()
+            .all(|n| kinematic_preset(n).is_some()));
     }
 }

@@ -69,23 +69,40 @@ impl HilbertPlan {
             .process_with_scratch(&mut self.input, &mut self.half, &mut self.scratch_r2c)
             .expect("buffer sizes come from the plan");
         let df = fs / n as f64;
-        let keep = |k: usize| band.map_or(true, |[f0, f1]| (k as f64 * df) >= f0 && (k as f64 * df) <= f1);
+        let keep = |k: usize| {
+            band.map_or(true, |[f0, f1]| {
+                (k as f64 * df) >= f0 && (k as f64 * df) <= f1
+            })
+        };
         let scale = 1.0 / n as f64;
-        self.full.iter_mut().for_each(|c| *c = Complex64::new(0.0, 0.0));
+        self.full
+            .iter_mut()
+            .for_each(|c| *c = Complex64::new(0.0, 0.0));
         for (k, h) in self.half.iter().enumerate() {
             if !keep(k) {
                 continue;
             }
             // DC and (even n) Nyquist are their own mirror images: weight 1; others 2.
-            let w = if k == 0 || (n % 2 == 0 && k == n / 2) { 1.0 } else { 2.0 };
+            let w = if k == 0 || (n % 2 == 0 && k == n / 2) {
+                1.0
+            } else {
+                2.0
+            };
             self.full[k] = h * (w * scale);
         }
-        self.ifft.process_with_scratch(&mut self.full, &mut self.scratch_fft);
+        self.ifft
+            .process_with_scratch(&mut self.full, &mut self.scratch_fft);
         &self.full
     }
 
     /// Envelope `|z|` of `x` (see [`Self::analytic`]) written into `out` (resized to `len()`).
-    pub fn envelope_into(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>, out: &mut Vec<f64>) {
+    pub fn envelope_into(
+        &mut self,
+        x: &[f64],
+        fs: f64,
+        band: Option<[f64; 2]>,
+        out: &mut Vec<f64>,
+    ) {
         let z = self.analytic(x, fs, band);
         out.clear();
         out.extend(z.iter().map(|c| c.norm()));
@@ -114,14 +131,18 @@ mod tests {
     fn real_part_is_the_signal_and_cosine_maps_to_sine() {
         // whole periods: the discrete Hilbert transform is exact to rounding (1e-12)
         let n = 256;
-        let x: Vec<f64> = (0..n).map(|i| (2.0 * PI * 5.0 * i as f64 / n as f64).cos()).collect();
+        let x: Vec<f64> = (0..n)
+            .map(|i| (2.0 * PI * 5.0 * i as f64 / n as f64).cos())
+            .collect();
         let z = analytic_signal(&x);
         for (i, c) in z.iter().enumerate() {
             assert!((c.re - x[i]).abs() < 1e-12);
             assert!((c.im - (2.0 * PI * 5.0 * i as f64 / n as f64).sin()).abs() < 1e-12);
         }
         // odd length too
-        let x: Vec<f64> = (0..255).map(|i| (2.0 * PI * 7.0 * i as f64 / 255.0).cos()).collect();
+        let x: Vec<f64> = (0..255)
+            .map(|i| (2.0 * PI * 7.0 * i as f64 / 255.0).cos())
+            .collect();
         let e = envelope(&x);
         assert!(e.iter().all(|v| (v - 1.0).abs() < 1e-12));
     }

@@ -37,7 +37,11 @@ pub struct IdentifyOptions {
 
 impl Default for IdentifyOptions {
     fn default() -> Self {
-        IdentifyOptions { search_band_pct: 5.0, harmonics: 3, detection_threshold_db: DEFAULT_THRESHOLD_DB }
+        IdentifyOptions {
+            search_band_pct: 5.0,
+            harmonics: 3,
+            detection_threshold_db: DEFAULT_THRESHOLD_DB,
+        }
     }
 }
 
@@ -186,7 +190,11 @@ pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option
 }
 
 /// A kinematic line other than the target that could explain a peak, and its frequency, Hz.
-fn explanations(theory: &CharacteristicFrequencies, harmonics: usize, f_max: f64) -> Vec<(String, f64)> {
+fn explanations(
+    theory: &CharacteristicFrequencies,
+    harmonics: usize,
+    f_max: f64,
+) -> Vec<(String, f64)> {
     let mut v = Vec::new();
     for (name, f) in theory.named() {
         for h in 1..=(harmonics as u32 + 1) {
@@ -229,7 +237,11 @@ fn explanations(theory: &CharacteristicFrequencies, harmonics: usize, f_max: f64
 /// target does; otherwise `nearer_line` names that line.
 /// Without it, the +/-5 % bands of a line-rich spectrum pick up each other's lines (on the
 /// CWRU 6205, 3 x BPFO and 2 x BPFI are 0.7 % apart).
-pub fn identify(s: &Spectrum, theory: &CharacteristicFrequencies, opts: &IdentifyOptions) -> Vec<Identification> {
+pub fn identify(
+    s: &Spectrum,
+    theory: &CharacteristicFrequencies,
+    opts: &IdentifyOptions,
+) -> Vec<Identification> {
     let f_max = s.df * s.len() as f64;
     let others = explanations(theory, opts.harmonics, f_max);
     let mut out = Vec::new();
@@ -237,7 +249,9 @@ pub fn identify(s: &Spectrum, theory: &CharacteristicFrequencies, opts: &Identif
         for h in 1..=opts.harmonics as u32 {
             let target = f * h as f64;
             let half = target * opts.search_band_pct / 100.0;
-            let Some(p) = find_peak(s, target - half, target + half, target) else { continue };
+            let Some(p) = find_peak(s, target - half, target + half, target) else {
+                continue;
+            };
             let own = format!("{name} x{h}");
             let dist = (p.frequency_hz - target).abs();
             let nearer_line = others
@@ -254,7 +268,9 @@ pub fn identify(s: &Spectrum, theory: &CharacteristicFrequencies, opts: &Identif
                 identified_hz: p.frequency_hz,
                 error_pct: (p.frequency_hz - target) / target * 100.0,
                 prominence_db: p.prominence_db,
-                detected: p.interior && p.prominence_db >= opts.detection_threshold_db && nearer_line.is_none(),
+                detected: p.interior
+                    && p.prominence_db >= opts.detection_threshold_db
+                    && nearer_line.is_none(),
                 nearer_line,
             });
         }
@@ -274,10 +290,16 @@ pub fn bpfi_sidebands(
     let mut out = Vec::new();
     let half = (theory.shaft_hz * opts.search_band_pct / 100.0).max(1.5 * s.df);
     for id in ids.iter().filter(|i| i.name == "BPFI") {
-        let centre = if id.detected { id.identified_hz } else { id.theory_hz };
+        let centre = if id.detected {
+            id.identified_hz
+        } else {
+            id.theory_hz
+        };
         for order in [-2i32, -1, 1, 2] {
             let target = centre + order as f64 * theory.shaft_hz;
-            let Some(p) = find_peak(s, target - half, target + half, target) else { continue };
+            let Some(p) = find_peak(s, target - half, target + half, target) else {
+                continue;
+            };
             out.push(Sideband {
                 harmonic: id.harmonic,
                 order,
@@ -325,7 +347,10 @@ mod tests {
 
     #[test]
     fn median_and_out_of_range() {
-        let s = Spectrum { df: 1.0, amplitude: (0..101).map(|k| k as f64).collect() };
+        let s = Spectrum {
+            df: 1.0,
+            amplitude: (0..101).map(|k| k as f64).collect(),
+        };
         // bins 25..=75 around 50 Hz (20 % = 10 Hz < 25 bins): median 50
         assert_eq!(local_median(&s, 50.0), 50.0);
         assert!(find_peak(&s, 200.0, 210.0, 205.0).is_none());

@@ -31,10 +31,14 @@ mod tests {
     #[test]
     fn known_values() {
         // sine over whole periods: exactly 1.5 (up to rounding, 1e-12)
-        let s: Vec<f64> = (0..1000).map(|i| (2.0 * std::f64::consts::PI * i as f64 / 100.0).sin()).collect();
+        let s: Vec<f64> = (0..1000)
+            .map(|i| (2.0 * std::f64::consts::PI * i as f64 / 100.0).sin())
+            .collect();
         assert!((kurtosis(&s) - 1.5).abs() < 1e-12);
         // two-level square wave: exactly 1
-        let q: Vec<f64> = (0..100).map(|i| if i % 2 == 0 { 3.0 } else { -1.0 }).collect();
+        let q: Vec<f64> = (0..100)
+            .map(|i| if i % 2 == 0 { 3.0 } else { -1.0 })
+            .collect();
         assert!((kurtosis(&q) - 1.0).abs() < 1e-12);
         // one impulse in n zeros: n - 2 + 1/(n-1)... check the closed form (n^2 - 3n + 3)/(n - 1)
         let mut p = vec![0.0; 50];

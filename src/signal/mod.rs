@@ -22,10 +22,11 @@ pub mod kurtosis;
 pub mod spectrum;
 
 pub use analysis::{
-    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport, Identification, Sideband,
-    Spectrum,
+    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport,
+    Identification, Sideband, Spectrum,
 };
 pub use frequencies::{
-    characteristic_frequencies, kinematic_preset, kinematic_preset_names, CharacteristicFrequencies, KinematicGeometry,
+    characteristic_frequencies, kinematic_preset, kinematic_preset_names,
+    CharacteristicFrequencies, KinematicGeometry,
 };
 pub mod io;

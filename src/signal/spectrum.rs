@@ -71,8 +71,9 @@ impl SpectrumPlan {
     pub fn with_forward(r2c: Arc<dyn RealToComplex<f64>>) -> Self {
         let n = r2c.len();
         assert!(n >= 2, "a spectrum needs at least two samples");
-        let window: Vec<f64> =
-            (0..n).map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos())).collect();
+        let window: Vec<f64> = (0..n)
+            .map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos()))
+            .collect();
         let window_sum = window.iter().sum();
         SpectrumPlan {
             n,
@@ -101,11 +102,18 @@ impl SpectrumPlan {
             .iter()
             .enumerate()
             .map(|(k, c)| {
-                let single = if k == 0 || (n % 2 == 0 && k == n / 2) { 1.0 } else { 2.0 };
+                let single = if k == 0 || (n % 2 == 0 && k == n / 2) {
+                    1.0
+                } else {
+                    2.0
+                };
                 single * c.norm() / self.window_sum
             })
             .collect();
-        Spectrum { df: fs / n as f64, amplitude }
+        Spectrum {
+            df: fs / n as f64,
+            amplitude,
+        }
     }
 }
 
@@ -155,7 +163,9 @@ mod tests {
     #[test]
     fn on_bin_sinusoid_reads_its_amplitude() {
         let (n, fs) = (1000, 1000.0);
-        let x: Vec<f64> = (0..n).map(|i| 0.7 * (2.0 * PI * 50.0 * i as f64 / fs + 0.3).cos() + 2.0).collect();
+        let x: Vec<f64> = (0..n)
+            .map(|i| 0.7 * (2.0 * PI * 50.0 * i as f64 / fs + 0.3).cos() + 2.0)
+            .collect();
         let s = SpectrumPlan::new(n).amplitude(&x, fs);
         assert_eq!(s.df, 1.0);
         // exact on a bin up to rounding: 1e-12; mean removed so DC ~ 0
@@ -175,7 +185,12 @@ mod tests {
             .collect();
         let s = envelope_spectrum(&x, fs, None);
         assert!((s.amplitude[37] - 0.3).abs() < 1e-9);
-        let others = s.amplitude.iter().enumerate().filter(|(k, _)| (*k as i64 - 37).abs() > 1).map(|(_, a)| *a);
+        let others = s
+            .amplitude
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| (*k as i64 - 37).abs() > 1)
+            .map(|(_, a)| *a);
         assert!(others.fold(0.0, f64::max) < 1e-9);
     }
 }

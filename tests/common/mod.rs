@@ -72,5 +72,7 @@ pub fn add_noise(x: &mut [f64], sigma: f64, rng: &mut Rng) {
 pub fn read_f32le(path: &str) -> Vec<f64> {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
     let b = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-    b.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64).collect()
+    b.chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+        .collect()
 }

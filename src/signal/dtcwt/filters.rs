@@ -13,7 +13,14 @@ use super::DtcwtError;
 /// Biorthogonal level-1 filter sets, in the order they are documented.
 pub const BIORT_NAMES: &[&str] = &["near_sym_b", "near_sym_a", "antonini", "legall"];
 /// Q-shift filter sets for levels >= 2.
-pub const QSHIFT_NAMES: &[&str] = &["qshift_b", "qshift_a", "qshift_c", "qshift_d", "qshift_06", "qshift_32"];
+pub const QSHIFT_NAMES: &[&str] = &[
+    "qshift_b",
+    "qshift_a",
+    "qshift_c",
+    "qshift_d",
+    "qshift_06",
+    "qshift_32",
+];
 
 /// Level-1 (biorthogonal, odd-length) analysis `h*` and synthesis `g*` filters.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,11 +54,15 @@ type Table = HashMap<String, HashMap<String, Vec<f64>>>;
 
 fn table() -> &'static Table {
     static TABLE: OnceLock<Table> = OnceLock::new();
-    TABLE.get_or_init(|| serde_json::from_str(include_str!("filters.json")).expect("embedded filters.json is valid"))
+    TABLE.get_or_init(|| {
+        serde_json::from_str(include_str!("filters.json")).expect("embedded filters.json is valid")
+    })
 }
 
 fn get(set: &HashMap<String, Vec<f64>>, key: &str) -> Vec<f64> {
-    set.get(key).cloned().expect("embedded filter set is complete")
+    set.get(key)
+        .cloned()
+        .expect("embedded filter set is complete")
 }
 
 /// Look up a level-1 filter set by name (case-insensitive).
@@ -61,7 +72,11 @@ pub fn biort(name: &str) -> Result<BiortFilters, DtcwtError> {
         .iter()
         .find(|n| **n == key)
         .and_then(|n| table().get(*n))
-        .ok_or_else(|| DtcwtError::UnknownFilter { field: "biort", name: name.into(), expected: BIORT_NAMES })?;
+        .ok_or_else(|| DtcwtError::UnknownFilter {
+            field: "biort",
+            name: name.into(),
+            expected: BIORT_NAMES,
+        })?;
     Ok(BiortFilters {
         name: key,
         h0o: get(set, "h0o"),
@@ -78,7 +93,11 @@ pub fn qshift(name: &str) -> Result<QshiftFilters, DtcwtError> {
         .iter()
         .find(|n| **n == key)
         .and_then(|n| table().get(*n))
-        .ok_or_else(|| DtcwtError::UnknownFilter { field: "qshift", name: name.into(), expected: QSHIFT_NAMES })?;
+        .ok_or_else(|| DtcwtError::UnknownFilter {
+            field: "qshift",
+            name: name.into(),
+            expected: QSHIFT_NAMES,
+        })?;
     Ok(QshiftFilters {
         name: key,
         h0a: get(set, "h0a"),
@@ -107,7 +126,9 @@ mod tests {
         for n in QSHIFT_NAMES {
             let f = qshift(n).unwrap();
             let l = f.h0a.len();
-            for h in [&f.h0a, &f.h0b, &f.g0a, &f.g0b, &f.h1a, &f.h1b, &f.g1a, &f.g1b] {
+            for h in [
+                &f.h0a, &f.h0b, &f.g0a, &f.g0b, &f.h1a, &f.h1b, &f.g1a, &f.g1b,
+            ] {
                 assert_eq!(h.len(), l);
                 assert_eq!(l % 2, 0, "{n}: q-shift filters are even-length");
             }
@@ -134,7 +155,10 @@ mod tests {
     #[test]
     fn unknown_names_are_rejected_with_the_list() {
         let e = biort("near_sym_z").unwrap_err().to_string();
-        assert!(e.contains("biort") && e.contains("near_sym_z") && e.contains("near_sym_b"), "{e}");
+        assert!(
+            e.contains("biort") && e.contains("near_sym_z") && e.contains("near_sym_b"),
+            "{e}"
+        );
         assert!(qshift("nope").is_err());
     }
 }

@@ -17,11 +17,19 @@ pub use transform::{min_length, Components, Dtcwt1d, Pyramid};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum DtcwtError {
     #[error("{field}: unknown filter set '{name}' (expected one of {})", expected.join(", "))]
-    UnknownFilter { field: &'static str, name: String, expected: &'static [&'static str] },
+    UnknownFilter {
+        field: &'static str,
+        name: String,
+        expected: &'static [&'static str],
+    },
     #[error("levels: must be >= 1 (got {levels})")]
     Levels { levels: usize },
     #[error("samples: {n} samples is too short for {levels} levels (need >= {need})")]
-    TooShort { n: usize, levels: usize, need: usize },
+    TooShort {
+        n: usize,
+        levels: usize,
+        need: usize,
+    },
 }
 
 /// Nominal pass band of level `level` (1-based) for sample rate `fs`, Hz: `[fs/2^(k+1), fs/2^k]`.

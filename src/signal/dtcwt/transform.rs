@@ -67,7 +67,10 @@ pub fn min_length(levels: usize) -> usize {
 impl Dtcwt1d {
     /// Transform with the named filter sets (see [`super::BIORT_NAMES`], [`super::QSHIFT_NAMES`]).
     pub fn new(biort_name: &str, qshift_name: &str) -> Result<Self, DtcwtError> {
-        Ok(Dtcwt1d { biort: biort(biort_name)?, qshift: qshift(qshift_name)? })
+        Ok(Dtcwt1d {
+            biort: biort(biort_name)?,
+            qshift: qshift(qshift_name)?,
+        })
     }
 
     /// Forward transform to `levels` levels (>= 1).
@@ -77,7 +80,11 @@ impl Dtcwt1d {
         }
         let need = min_length(levels);
         if x.len() < need {
-            return Err(DtcwtError::TooShort { n: x.len(), levels, need });
+            return Err(DtcwtError::TooShort {
+                n: x.len(),
+                levels,
+                need,
+            });
         }
         let n_input = x.len();
         let padded;
@@ -112,7 +119,11 @@ impl Dtcwt1d {
             highpasses.push(to_complex(&hi));
             lo = next;
         }
-        Ok(Pyramid { n_input, lowpass: lo, highpasses })
+        Ok(Pyramid {
+            n_input,
+            lowpass: lo,
+            highpasses,
+        })
     }
 
     /// Full inverse transform, trimmed to the input length.
@@ -120,7 +131,11 @@ impl Dtcwt1d {
         let levels = p.levels();
         let mut lo = p.lowpass.clone();
         for level in (1..levels).rev() {
-            lo = self.up_one(&lo, Some(&p.highpasses[level]), p.highpasses[level - 1].len());
+            lo = self.up_one(
+                &lo,
+                Some(&p.highpasses[level]),
+                p.highpasses[level - 1].len(),
+            );
         }
         self.finish(Some(&lo), Some(&p.highpasses[0]), p.n_input)
     }
@@ -128,7 +143,11 @@ impl Dtcwt1d {
     /// Time-domain component of one level (1-based) alone: the inverse with every other level
     /// and the low-pass set to zero. Costs about one full inverse of the lower levels.
     pub fn level_component(&self, p: &Pyramid, level: usize) -> Vec<f64> {
-        assert!(level >= 1 && level <= p.levels(), "level {level} out of 1..={}", p.levels());
+        assert!(
+            level >= 1 && level <= p.levels(),
+            "level {level} out of 1..={}",
+            p.levels()
+        );
         if level == 1 {
             return self.finish(None, Some(&p.highpasses[0]), p.n_input);
         }
@@ -152,7 +171,9 @@ impl Dtcwt1d {
     /// Every level's component and the low-pass component.
     pub fn components(&self, p: &Pyramid) -> Components {
         Components {
-            levels: (1..=p.levels()).map(|l| self.level_component(p, l)).collect(),
+            levels: (1..=p.levels())
+                .map(|l| self.level_component(p, l))
+                .collect(),
             lowpass: self.lowpass_component(p),
         }
     }
@@ -183,7 +204,10 @@ impl Dtcwt1d {
 
     /// Level-1 synthesis, trimmed to `n` samples.
     fn finish(&self, lo: Option<&[f64]>, hi: Option<&[Complex64]>, n: usize) -> Vec<f64> {
-        let len = lo.map(|l| l.len()).or(hi.map(|h| 2 * h.len())).expect("something to synthesise");
+        let len = lo
+            .map(|l| l.len())
+            .or(hi.map(|h| 2 * h.len()))
+            .expect("something to synthesise");
         let mut z = vec![0.0; len];
         if let Some(l) = lo {
             colfilter(l, &self.biort.g0o, &mut z);
@@ -210,7 +234,9 @@ fn trim_to(mut v: Vec<f64>, len: usize) -> Vec<f64> {
 }
 
 fn to_complex(hi: &[f64]) -> Vec<Complex64> {
-    hi.chunks_exact(2).map(|c| Complex64::new(c[0], c[1])).collect()
+    hi.chunks_exact(2)
+        .map(|c| Complex64::new(c[0], c[1]))
+        .collect()
 }
 
 fn to_real(h: &[Complex64]) -> Vec<f64> {
@@ -237,7 +263,9 @@ fn reflect(i: isize, n: usize) -> usize {
 /// `x` extended by `before` samples on the left and `after` on the right.
 fn extend(x: &[f64], before: usize, after: usize) -> Vec<f64> {
     let n = x.len();
-    (0..before + n + after).map(|j| x[reflect(j as isize - before as isize, n)]).collect()
+    (0..before + n + after)
+        .map(|j| x[reflect(j as isize - before as isize, n)])
+        .collect()
 }
 
 /// Undecimated filtering with an odd-length filter `h`, output aligned with the input:
@@ -265,7 +293,10 @@ pub(crate) fn colfilter(x: &[f64], h: &[f64], y: &mut [f64]) {
 pub(crate) fn coldfilt(x: &[f64], ha: &[f64], hb: &[f64], y: &mut [f64]) {
     let r = x.len();
     let m = ha.len();
-    assert!(r % 4 == 0, "coldfilt needs a length that is a multiple of 4");
+    assert!(
+        r % 4 == 0,
+        "coldfilt needs a length that is a multiple of 4"
+    );
     assert!(m % 2 == 0 && hb.len() == m);
     assert_eq!(y.len(), r / 2);
     let p = m / 2;
@@ -358,13 +389,19 @@ mod tests {
         // whose published taps give PR only to ~3e-9 (a design with 32 taps rounded to the
         // table's precision). Tolerances: 1e-12 (rounding over ~20-tap filters and 4 levels,
         // on a unit-scale signal) and 1e-8 for qshift_32 (its design error, not ours).
-        let x: Vec<f64> = (0..203).map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0).collect();
+        let x: Vec<f64> = (0..203)
+            .map(|i| ((i * 7919) % 101) as f64 / 50.0 - 1.0)
+            .collect();
         for b in super::super::BIORT_NAMES {
             for q in super::super::QSHIFT_NAMES {
                 let t = Dtcwt1d::new(b, q).unwrap();
                 let p = t.forward(&x, 4).unwrap();
                 let y = t.inverse(&p);
-                let err = x.iter().zip(&y).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+                let err = x
+                    .iter()
+                    .zip(&y)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
                 let tol = if *q == "qshift_32" { 1e-8 } else { 1e-12 };
                 assert!(err < tol, "{b}/{q}: PR error {err}");
             }
@@ -374,7 +411,13 @@ mod tests {
     #[test]
     fn rejects_short_input_and_zero_levels() {
         let t = Dtcwt1d::default();
-        assert!(matches!(t.forward(&[0.0; 10], 5), Err(DtcwtError::TooShort { need: 64, .. })));
-        assert!(matches!(t.forward(&[0.0; 10], 0), Err(DtcwtError::Levels { .. })));
+        assert!(matches!(
+            t.forward(&[0.0; 10], 5),
+            Err(DtcwtError::TooShort { need: 64, .. })
+        ));
+        assert!(matches!(
+            t.forward(&[0.0; 10], 0),
+            Err(DtcwtError::Levels { .. })
+        ));
     }
 }
