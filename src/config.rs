@@ -9,7 +9,11 @@ pub struct Config {
     pub bind: SocketAddr,
 
     /// SQLite database URL; the file and its directory are created if missing.
-    #[arg(long, env = "BEARING_SIM_DATABASE_URL", default_value = "sqlite://data/bearing-sim.db")]
+    #[arg(
+        long,
+        env = "BEARING_SIM_DATABASE_URL",
+        default_value = "sqlite://data/bearing-sim.db"
+    )]
     pub database_url: String,
 
     /// Jobs run at the same time (blocking engine threads); default: available cores.
@@ -22,7 +26,12 @@ pub struct Config {
     pub max_queued: i64,
 
     /// Comma-separated origins allowed by CORS (e.g. `http://localhost:3000`); empty: none.
-    #[arg(long, env = "BEARING_SIM_CORS_ORIGINS", value_delimiter = ',', default_value = "")]
+    #[arg(
+        long,
+        env = "BEARING_SIM_CORS_ORIGINS",
+        value_delimiter = ',',
+        default_value = ""
+    )]
     pub cors_origins: Vec<String>,
 
     /// Log format on stderr: `text` or `json`.
@@ -46,7 +55,11 @@ pub struct Config {
     pub max_attempts: i64,
 
     /// Analyses of signals up to this many samples are answered directly; longer ones are queued.
-    #[arg(long, env = "BEARING_SIM_SYNC_ANALYSIS_SAMPLES", default_value_t = 262_144)]
+    #[arg(
+        long,
+        env = "BEARING_SIM_SYNC_ANALYSIS_SAMPLES",
+        default_value_t = 262_144
+    )]
     pub sync_analysis_samples: usize,
 
     /// Grace period on shutdown for running jobs to stop and be requeued, s.
@@ -56,8 +69,11 @@ pub struct Config {
 
 impl Config {
     pub fn worker_count(&self) -> usize {
-        self.workers
-            .unwrap_or_else(|| std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1))
+        self.workers.unwrap_or_else(|| {
+            std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1)
+        })
     }
 
     pub fn lease_ms(&self) -> i64 {

@@ -42,7 +42,9 @@ pub fn main(args: ServeArgs) -> crate::cli::CliResult {
 fn init_logging(format: &str) {
     let filter = tracing_subscriber::EnvFilter::try_from_env("BEARING_SIM_LOG")
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info,sqlx=warn,tower_http=warn"));
-    let builder = tracing_subscriber::fmt().with_env_filter(filter).with_writer(std::io::stderr);
+    let builder = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr);
     if format == "json" {
         builder.json().init();
     } else {
@@ -58,7 +60,12 @@ async fn run(config: Config) -> crate::cli::CliResult {
     let ready = Arc::new(AtomicBool::new(true));
     let workers = config.worker_count();
 
-    let pool = WorkerPool::start(WorkerEnv { store: store.clone(), config: config.clone(), metrics: metrics.clone(), wake: wake.clone() });
+    let pool = WorkerPool::start(WorkerEnv {
+        store: store.clone(),
+        config: config.clone(),
+        metrics: metrics.clone(),
+        wake: wake.clone(),
+    });
     let state = AppState {
         store,
         config: config.clone(),
@@ -89,7 +96,8 @@ async fn run(config: Config) -> crate::cli::CliResult {
     let _ = stop_rx.wait_for(|s| *s).await;
     tracing::info!("shutting down: no new jobs; running jobs are stopped and requeued");
     ready.store(false, Ordering::SeqCst);
-    pool.shutdown(Duration::from_secs_f64(config.shutdown_grace.max(0.0))).await;
+    pool.shutdown(Duration::from_secs_f64(config.shutdown_grace.max(0.0)))
+        .await;
     match tokio::time::timeout(Duration::from_secs(5), server).await {
         Ok(Ok(Ok(()))) => {}
         Ok(Ok(Err(e))) => return Err(e.into()),
@@ -104,7 +112,11 @@ fn probe(bind: std::net::SocketAddr) -> crate::cli::CliResult {
     use std::io::Read;
     let mut addr = bind;
     if addr.ip().is_unspecified() {
-        addr.set_ip(if addr.is_ipv4() { std::net::Ipv4Addr::LOCALHOST.into() } else { std::net::Ipv6Addr::LOCALHOST.into() });
+        addr.set_ip(if addr.is_ipv4() {
+            std::net::Ipv4Addr::LOCALHOST.into()
+        } else {
+            std::net::Ipv6Addr::LOCALHOST.into()
+        });
     }
     let timeout = Duration::from_secs(3);
     let mut stream = std::net::TcpStream::connect_timeout(&addr, timeout)?;

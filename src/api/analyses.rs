@@ -15,7 +15,9 @@ use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use bearing_sim::signal::analysis::AnalysisOptions;
-use bearing_sim::signal::frequencies::{kinematic_preset, kinematic_preset_names, KinematicGeometry};
+use bearing_sim::signal::frequencies::{
+    kinematic_preset, kinematic_preset_names, KinematicGeometry,
+};
 use serde::Deserialize;
 use serde_json::json;
 
@@ -37,11 +39,18 @@ struct JsonRequest {
     options: Option<AnalysisOptions>,
 }
 
-pub async fn submit(State(state): State<AppState>, headers: HeaderMap, RawQuery(q): RawQuery, body: Bytes) -> ApiResult<Response> {
+pub async fn submit(
+    State(state): State<AppState>,
+    headers: HeaderMap,
+    RawQuery(q): RawQuery,
+    body: Bytes,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let mode = q.str("mode").unwrap_or("auto");
     if mode != "auto" && mode != "async" {
-        return Err(Problem::bad_request(format!("query parameter 'mode' = '{mode}': expected auto or async")));
+        return Err(Problem::bad_request(format!(
+            "query parameter 'mode' = '{mode}': expected auto or async"
+        )));
     }
     let ct = content_type(&headers).unwrap_or_default();
     let (input, samples) = if super::extract::is_json(&headers) {
@@ -58,17 +67,39 @@ pub async fn submit(State(state): State<AppState>, headers: HeaderMap, RawQuery(
     if mode == "async" || samples.len() > state.config.sync_analysis_samples {
         let value = serde_json::to_value(&input).map_err(|e| Problem::internal(e.to_string()))?;
         let label = format!("{} samples at {} Hz", samples.len(), input.sample_rate);
-        return enqueue(&state, &headers, JobKind::Analysis, label, value, Some(encode_f64le(&samples))).await;
+        return enqueue(
+            &state,
+            &headers,
+            JobKind::Analysis,
+            label,
+            value,
+            Some(encode_f64le(&samples)),
+        )
+        .await;
     }
 
-    let _permit = state.direct.clone().acquire_owned().await.map_err(|_| Problem::unavailable("shutting down"))?;
+    let _permit = state
+        .direct
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|_| Problem::unavailable("shutting down"))?;
     let run = tokio::task::spawn_blocking(move || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run_analysis(&input, &samples)))
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            run_analysis(&input, &samples)
+        }))
     })
     .await
     .map_err(|e| Problem::internal(format!("analysis task failed: {e}")))?
     .map_err(|_| Problem::internal("the analysis panicked"))?;
-    let run = run.map_err(|m| Problem::new(StatusCode::UNPROCESSABLE_ENTITY, Some("analysis-failed"), "The signal cannot be analysed", m))?;
+    let run = run.map_err(|m| {
+        Problem::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("analysis-failed"),
+            "The signal cannot be analysed",
+            m,
+        )
+    })?;
     let out = &run.output;
     let best = out.report.best_component.level;
     Ok(Json(json!({
@@ -87,23 +118,52 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
     let r: JsonRequest = from_value(v, "")?;
     let geometry = geometry(r.preset.as_deref(), r.geometry, "preset")?;
     let shaft_hz = shaft_hz(r.shaft_hz, r.shaft_rpm)?;
-    let input = AnalysisInput { sample_rate: r.sample_rate, geometry, shaft_hz, options: r.options.unwrap_or_default() };
+    let input = AnalysisInput {
+        sample_rate: r.sample_rate,
+        geometry,
+        shaft_hz,
+        options: r.options.unwrap_or_default(),
+    };
     check(&input, &r.samples)?;
     Ok((input, r.samples))
 }
 
 fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
     if body.len() % 4 != 0 {
-        return Err(Problem::field("$", format!("raw body length {} is not a multiple of 4 (f32 little-endian samples)", body.len())));
+        return Err(Problem::field(
+            "$",
+            format!(
+                "raw body length {} is not a multiple of 4 (f32 little-endian samples)",
+                body.len()
+            ),
+        ));
     }
     let samples = crate::store::blob::decode_f32le(body);
-    let sample_rate = q.f64("sample_rate")?.ok_or_else(|| Problem::field("sample_rate", "required with a raw body: the query parameter sample_rate (Hz)"))?;
-    let explicit = match (q.get::<usize>("ball_count")?, q.f64("ball_diameter")?, q.f64("pitch_diameter")?, q.f64("contact_angle")?) {
+    let sample_rate = q.f64("sample_rate")?.ok_or_else(|| {
+        Problem::field(
+            "sample_rate",
+            "required with a raw body: the query parameter sample_rate (Hz)",
+        )
+    })?;
+    let explicit = match (
+        q.get::<usize>("ball_count")?,
+        q.f64("ball_diameter")?,
+        q.f64("pitch_diameter")?,
+        q.f64("contact_angle")?,
+    ) {
         (None, None, None, None) => None,
         (Some(ball_count), Some(ball_diameter), Some(pitch_diameter), Some(contact_angle)) => {
-            Some(KinematicGeometry { ball_count, ball_diameter, pitch_diameter, contact_angle })
+            Some(KinematicGeometry {
+                ball_count,
+                ball_diameter,
+                pitch_diameter,
+                contact_angle,
+            })
         }
-        _ => return Err(Problem::field("ball_count", "give all of ball_count, ball_diameter, pitch_diameter and contact_angle, or a preset")),
+        _ => return Err(Problem::field(
+            "ball_count",
+            "give all of ball_count, ball_diameter, pitch_diameter and contact_angle, or a preset",
+        )),
     };
     let geometry = geometry(q.str("preset"), explicit, "preset")?;
     let shaft_hz = shaft_hz(q.f64("shaft_hz")?, q.f64("shaft_rpm")?)?;
@@ -120,12 +180,22 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     match (q.f64("window_from")?, q.f64("window_to")?) {
         (None, None) => {}
         (Some(a), Some(b)) => options.window = Some([a, b]),
-        _ => return Err(Problem::field("window_from", "give both window_from and window_to (s)")),
+        _ => {
+            return Err(Problem::field(
+                "window_from",
+                "give both window_from and window_to (s)",
+            ))
+        }
     }
     match (q.f64("band_low")?, q.f64("band_high")?) {
         (None, None) => {}
         (Some(a), Some(b)) => options.band = Some([a, b]),
-        _ => return Err(Problem::field("band_low", "give both band_low and band_high (Hz)")),
+        _ => {
+            return Err(Problem::field(
+                "band_low",
+                "give both band_low and band_high (Hz)",
+            ))
+        }
     }
     if let Some(b) = q.str("biort") {
         options.biort = b.to_string();
@@ -133,30 +203,75 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     if let Some(s) = q.str("qshift") {
         options.qshift = s.to_string();
     }
-    let input = AnalysisInput { sample_rate, geometry, shaft_hz, options };
+    let input = AnalysisInput {
+        sample_rate,
+        geometry,
+        shaft_hz,
+        options,
+    };
     check(&input, &samples)?;
     Ok((input, samples))
 }
 
-fn geometry(preset: Option<&str>, explicit: Option<KinematicGeometry>, path: &str) -> ApiResult<KinematicGeometry> {
+fn geometry(
+    preset: Option<&str>,
+    explicit: Option<KinematicGeometry>,
+    path: &str,
+) -> ApiResult<KinematicGeometry> {
     match (preset, explicit) {
-        (Some(_), Some(_)) => Err(Problem::field(path, "give either a preset or a geometry, not both")),
-        (None, None) => Err(Problem::field(path, format!("required: a bearing preset ({}) or a geometry", kinematic_preset_names().join(", ")))),
-        (Some(p), None) => kinematic_preset(&p.to_ascii_lowercase())
-            .ok_or_else(|| Problem::field(path, format!("unknown preset '{p}'; presets: {}", kinematic_preset_names().join(", ")))),
-        (None, Some(g)) => g.validate().map(|()| g).map_err(|(field, message)| Problem::field(&format!("geometry.{field}"), message)),
+        (Some(_), Some(_)) => Err(Problem::field(
+            path,
+            "give either a preset or a geometry, not both",
+        )),
+        (None, None) => Err(Problem::field(
+            path,
+            format!(
+                "required: a bearing preset ({}) or a geometry",
+                kinematic_preset_names().join(", ")
+            ),
+        )),
+        (Some(p), None) => kinematic_preset(&p.to_ascii_lowercase()).ok_or_else(|| {
+            Problem::field(
+                path,
+                format!(
+                    "unknown preset '{p}'; presets: {}",
+                    kinematic_preset_names().join(", ")
+                ),
+            )
+        }),
+        (None, Some(g)) => g
+            .validate()
+            .map(|()| g)
+            .map_err(|(field, message)| Problem::field(&format!("geometry.{field}"), message)),
     }
 }
 
 fn shaft_hz(hz: Option<f64>, rpm: Option<f64>) -> ApiResult<f64> {
     let f = match (hz, rpm) {
-        (Some(_), Some(_)) => return Err(Problem::field("shaft_hz", "give either shaft_hz or shaft_rpm, not both")),
-        (None, None) => return Err(Problem::field("shaft_hz", "required: shaft_hz (Hz) or shaft_rpm (rev/min)")),
+        (Some(_), Some(_)) => {
+            return Err(Problem::field(
+                "shaft_hz",
+                "give either shaft_hz or shaft_rpm, not both",
+            ))
+        }
+        (None, None) => {
+            return Err(Problem::field(
+                "shaft_hz",
+                "required: shaft_hz (Hz) or shaft_rpm (rev/min)",
+            ))
+        }
         (Some(h), None) => h,
         (None, Some(r)) => r / 60.0,
     };
     if !(f.is_finite() && f > 0.0) {
-        return Err(Problem::field(if hz.is_some() { "shaft_hz" } else { "shaft_rpm" }, "must be a finite number > 0"));
+        return Err(Problem::field(
+            if hz.is_some() {
+                "shaft_hz"
+            } else {
+                "shaft_rpm"
+            },
+            "must be a finite number > 0",
+        ));
     }
     Ok(f)
 }
@@ -164,13 +279,22 @@ fn shaft_hz(hz: Option<f64>, rpm: Option<f64>) -> ApiResult<f64> {
 fn check(input: &AnalysisInput, samples: &[f64]) -> ApiResult<()> {
     let mut errs = vec![];
     if !(input.sample_rate.is_finite() && input.sample_rate > 0.0) {
-        errs.push(FieldProblem { path: "sample_rate".into(), message: "must be a finite number > 0 Hz".into() });
+        errs.push(FieldProblem {
+            path: "sample_rate".into(),
+            message: "must be a finite number > 0 Hz".into(),
+        });
     }
     if samples.len() < 16 {
-        errs.push(FieldProblem { path: "samples".into(), message: format!("need at least 16 samples, got {}", samples.len()) });
+        errs.push(FieldProblem {
+            path: "samples".into(),
+            message: format!("need at least 16 samples, got {}", samples.len()),
+        });
     }
     if let Some(k) = samples.iter().position(|x| !x.is_finite()) {
-        errs.push(FieldProblem { path: format!("samples[{k}]"), message: "must be finite".into() });
+        errs.push(FieldProblem {
+            path: format!("samples[{k}]"),
+            message: "must be finite".into(),
+        });
     }
     if errs.is_empty() {
         Ok(())

@@ -7,13 +7,21 @@ use serde_json::Value;
 
 /// Is the request body declared as JSON (`application/json` or `application/*+json`)?
 pub fn is_json(headers: &HeaderMap) -> bool {
-    content_type(headers).is_some_and(|ct| ct == "application/json" || (ct.starts_with("application/") && ct.ends_with("+json")))
+    content_type(headers).is_some_and(|ct| {
+        ct == "application/json" || (ct.starts_with("application/") && ct.ends_with("+json"))
+    })
 }
 
 /// Media type without parameters, lower-cased.
 pub fn content_type(headers: &HeaderMap) -> Option<String> {
     let v = headers.get(header::CONTENT_TYPE)?.to_str().ok()?;
-    Some(v.split(';').next().unwrap_or("").trim().to_ascii_lowercase())
+    Some(
+        v.split(';')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .to_ascii_lowercase(),
+    )
 }
 
 pub fn require_json(headers: &HeaderMap) -> Result<(), Problem> {
@@ -29,7 +37,8 @@ pub fn require_json(headers: &HeaderMap) -> Result<(), Problem> {
 
 /// Parse JSON text into a value: a syntax error is a 400.
 pub fn parse_value(body: &[u8]) -> Result<Value, Problem> {
-    serde_json::from_slice(body).map_err(|e| Problem::bad_request(format!("request body is not valid JSON: {e}")))
+    serde_json::from_slice(body)
+        .map_err(|e| Problem::bad_request(format!("request body is not valid JSON: {e}")))
 }
 
 /// Convert a JSON value into `T`; a type or unknown-field error is a 422 naming its path
@@ -37,7 +46,10 @@ pub fn parse_value(body: &[u8]) -> Result<Value, Problem> {
 pub fn from_value<T: DeserializeOwned>(v: Value, prefix: &str) -> Result<T, Problem> {
     serde_path_to_error::deserialize(v).map_err(|e| {
         let path = join_path(prefix, &e.path().to_string());
-        Problem::validation(vec![FieldProblem { path, message: e.into_inner().to_string() }])
+        Problem::validation(vec![FieldProblem {
+            path,
+            message: e.into_inner().to_string(),
+        }])
     })
 }
 
@@ -45,7 +57,10 @@ pub fn from_value<T: DeserializeOwned>(v: Value, prefix: &str) -> Result<T, Prob
 pub fn as_object(v: Value) -> Result<serde_json::Map<String, Value>, Problem> {
     match v {
         Value::Object(m) => Ok(m),
-        other => Err(Problem::field("$", format!("must be a JSON object, got {}", kind_of(&other)))),
+        other => Err(Problem::field(
+            "$",
+            format!("must be a JSON object, got {}", kind_of(&other)),
+        )),
     }
 }
 
@@ -72,7 +87,9 @@ impl QueryParams {
             let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
             let (k, v) = (percent_decode(k), percent_decode(v));
             if map.insert(k.clone(), v).is_some() {
-                return Err(Problem::bad_request(format!("query parameter '{k}' given more than once")));
+                return Err(Problem::bad_request(format!(
+                    "query parameter '{k}' given more than once"
+                )));
             }
         }
         Ok(QueryParams(map))
@@ -89,18 +106,18 @@ impl QueryParams {
     {
         match self.0.get(name) {
             None => Ok(None),
-            Some(v) => v
-                .trim()
-                .parse::<T>()
-                .map(Some)
-                .map_err(|e| Problem::bad_request(format!("query parameter '{name}' = '{v}': {e}"))),
+            Some(v) => v.trim().parse::<T>().map(Some).map_err(|e| {
+                Problem::bad_request(format!("query parameter '{name}' = '{v}': {e}"))
+            }),
         }
     }
 
     /// A finite float parameter.
     pub fn f64(&self, name: &str) -> Result<Option<f64>, Problem> {
         match self.get::<f64>(name)? {
-            Some(x) if !x.is_finite() => Err(Problem::bad_request(format!("query parameter '{name}' must be a finite number"))),
+            Some(x) if !x.is_finite() => Err(Problem::bad_request(format!(
+                "query parameter '{name}' must be a finite number"
+            ))),
             x => Ok(x),
         }
     }
@@ -115,7 +132,10 @@ fn percent_decode(s: &str) -> String {
         if b == b'+' {
             out.push(b' ');
         } else if b == b'%' && i + 2 < bytes.len() {
-            match std::str::from_utf8(&bytes[i + 1..i + 3]).ok().and_then(|h| u8::from_str_radix(h, 16).ok()) {
+            match std::str::from_utf8(&bytes[i + 1..i + 3])
+                .ok()
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+            {
                 Some(x) => {
                     out.push(x);
                     i += 2;

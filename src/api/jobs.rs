@@ -21,7 +21,10 @@ const MAX_WAIT: f64 = 60.0;
 pub async fn load(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
     let job = state.store.get_job(id).await?;
     if job.kind != kind {
-        return Err(Problem::not_found(format!("no {} with id {id}", kind.as_str())));
+        return Err(Problem::not_found(format!(
+            "no {} with id {id}",
+            kind.as_str()
+        )));
     }
     Ok(job)
 }
@@ -47,13 +50,24 @@ fn not_modified(job: &Job) -> Response {
     res
 }
 
-async fn get_job(state: AppState, kind: JobKind, id: String, headers: HeaderMap, q: Option<String>) -> ApiResult<Response> {
+async fn get_job(
+    state: AppState,
+    kind: JobKind,
+    id: String,
+    headers: HeaderMap,
+    q: Option<String>,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let wait = q.f64("wait")?.unwrap_or(0.0);
     if !(0.0..=MAX_WAIT).contains(&wait) {
-        return Err(Problem::bad_request(format!("query parameter 'wait' must be in [0, {MAX_WAIT}] s")));
+        return Err(Problem::bad_request(format!(
+            "query parameter 'wait' must be in [0, {MAX_WAIT}] s"
+        )));
     }
-    let inm = headers.get(header::IF_NONE_MATCH).and_then(|v| v.to_str().ok()).map(str::to_string);
+    let inm = headers
+        .get(header::IF_NONE_MATCH)
+        .and_then(|v| v.to_str().ok())
+        .map(str::to_string);
     let deadline = Instant::now() + Duration::from_secs_f64(wait);
     loop {
         let job = load(&state, kind, &id).await?;
@@ -81,18 +95,35 @@ async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResult<Re
     };
     let limit = q.get::<i64>("limit")?.unwrap_or(50);
     if !(1..=500).contains(&limit) {
-        return Err(Problem::bad_request("query parameter 'limit' must be in 1..=500"));
+        return Err(Problem::bad_request(
+            "query parameter 'limit' must be in 1..=500",
+        ));
     }
     let before = match q.str("cursor") {
         None => None,
-        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| Problem::bad_request(format!("query parameter 'cursor' = '{c}' is not a cursor from a previous page")))?),
+        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| {
+            Problem::bad_request(format!(
+                "query parameter 'cursor' = '{c}' is not a cursor from a previous page"
+            ))
+        })?),
     };
-    let page = state.store.list_jobs(&ListFilter { kind: Some(kind), state: job_state, before, limit }).await?;
+    let page = state
+        .store
+        .list_jobs(&ListFilter {
+            kind: Some(kind),
+            state: job_state,
+            before,
+            limit,
+        })
+        .await?;
     let items: Vec<Value> = page.jobs.iter().map(job_json).collect();
     let next = page.next.map(|n| n.to_string());
     let mut body = json!({ "items": items, "next_cursor": next });
     if let Some(n) = &next {
-        let mut link = format!("{}?cursor={n}&limit={limit}", super::views::collection(kind));
+        let mut link = format!(
+            "{}?cursor={n}&limit={limit}",
+            super::views::collection(kind)
+        );
         if let Some(s) = job_state {
             link.push_str(&format!("&state={s}"));
         }
@@ -118,8 +149,14 @@ pub async fn succeeded(state: &AppState, kind: JobKind, id: &str) -> ApiResult<J
     let job = load(state, kind, id).await?;
     if job.state != JobState::Succeeded {
         let why = match &job.error {
-            Some(e) => format!("job {id} is {} ({}: {}); results exist only for succeeded jobs", job.state, e.kind, e.message),
-            None => format!("job {id} is {}; results exist only for succeeded jobs", job.state),
+            Some(e) => format!(
+                "job {id} is {} ({}: {}); results exist only for succeeded jobs",
+                job.state, e.kind, e.message
+            ),
+            None => format!(
+                "job {id} is {}; results exist only for succeeded jobs",
+                job.state
+            ),
         };
         return Err(Problem::conflict(why, Some(job.state.as_str())));
     }
@@ -132,7 +169,8 @@ async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Respons
     if let Value::Object(m) = &mut body {
         m.insert("id".into(), json!(job.id));
         if job.stats.is_some() {
-            m.entry("solver").or_insert(job.stats.clone().unwrap_or(Value::Null));
+            m.entry("solver")
+                .or_insert(job.stats.clone().unwrap_or(Value::Null));
         }
     }
     let mut res = Json(body).into_response();
@@ -142,36 +180,76 @@ async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Respons
     Ok(res)
 }
 
-async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) -> ApiResult<Response> {
+async fn spectra(
+    state: AppState,
+    kind: JobKind,
+    id: String,
+    q: Option<String>,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let level = q.get::<usize>("level")?;
     // `level` alone implies kind=level; with another kind it is ignored.
-    let which = q.str("kind").unwrap_or(if level.is_some() { "level" } else { "raw" }).to_string();
+    let which = q
+        .str("kind")
+        .unwrap_or(if level.is_some() { "level" } else { "raw" })
+        .to_string();
     let level = if which == "level" { level } else { None };
     let fmax = q.f64("fmax")?;
     if let Some(f) = fmax {
         if f <= 0.0 {
-            return Err(Problem::bad_request("query parameter 'fmax' must be > 0 Hz"));
+            return Err(Problem::bad_request(
+                "query parameter 'fmax' must be > 0 Hz",
+            ));
         }
     }
     if !["raw", "best_component", "level"].contains(&which.as_str()) {
-        return Err(Problem::bad_request(format!("query parameter 'kind' = '{which}': expected raw, best_component or level")));
+        return Err(Problem::bad_request(format!(
+            "query parameter 'kind' = '{which}': expected raw, best_component or level"
+        )));
     }
     if which == "level" && level.is_none() {
-        return Err(Problem::field("level", "required with kind=level (1 = finest)"));
+        return Err(Problem::field(
+            "level",
+            "required with kind=level (1 = finest)",
+        ));
     }
     let job = succeeded(&state, kind, &id).await?;
-    let analysis = job.result.as_ref().and_then(|r| r.get("analysis")).filter(|a| !a.is_null()).cloned();
+    let analysis = job
+        .result
+        .as_ref()
+        .and_then(|r| r.get("analysis"))
+        .filter(|a| !a.is_null())
+        .cloned();
     let Some(analysis) = analysis else {
-        let why = job.result.as_ref().and_then(|r| r.get("analysis_error")).and_then(|v| v.as_str()).unwrap_or("no analysis was stored");
-        return Err(Problem::conflict(format!("job {id} has no spectra: {why}"), Some(job.state.as_str())));
+        let why = job
+            .result
+            .as_ref()
+            .and_then(|r| r.get("analysis_error"))
+            .and_then(|v| v.as_str())
+            .unwrap_or("no analysis was stored");
+        return Err(Problem::conflict(
+            format!("job {id} has no spectra: {why}"),
+            Some(job.state.as_str()),
+        ));
     };
-    let best_level = analysis.pointer("/best_component/level").and_then(Value::as_u64).map(|l| l as usize);
+    let best_level = analysis
+        .pointer("/best_component/level")
+        .and_then(Value::as_u64)
+        .map(|l| l as usize);
     let (artifact, lvl, peaks) = match which.as_str() {
-        "raw" => ("spectrum:raw".to_string(), None, analysis.get("raw").cloned()),
+        "raw" => (
+            "spectrum:raw".to_string(),
+            None,
+            analysis.get("raw").cloned(),
+        ),
         "best_component" => {
-            let l = best_level.ok_or_else(|| Problem::internal("stored analysis lacks best_component.level"))?;
-            (format!("spectrum:level:{l}"), Some(l), analysis.pointer("/best_component/identifications").cloned())
+            let l = best_level
+                .ok_or_else(|| Problem::internal("stored analysis lacks best_component.level"))?;
+            (
+                format!("spectrum:level:{l}"),
+                Some(l),
+                analysis.pointer("/best_component/identifications").cloned(),
+            )
         }
         _ => {
             let l = level.unwrap_or(0);
@@ -184,7 +262,10 @@ async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) 
         }
     };
     let Some(a) = state.store.get_artifact(&id, &artifact).await? else {
-        return Err(Problem::not_found(format!("job {id} has no spectrum {which}{}", lvl.map(|l| format!(" for level {l}")).unwrap_or_default())));
+        return Err(Problem::not_found(format!(
+            "job {id} has no spectrum {which}{}",
+            lvl.map(|l| format!(" for level {l}")).unwrap_or_default()
+        )));
     };
     let df = a.meta.get("df").and_then(Value::as_f64).unwrap_or(0.0);
     let mut amplitude = decode_f32le(&a.data);
@@ -194,13 +275,21 @@ async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) 
         }
     }
     let f_top = df * amplitude.len().saturating_sub(1) as f64;
-    let harmonics = analysis.pointer("/options/harmonics").and_then(Value::as_u64).unwrap_or(3).max(1);
+    let harmonics = analysis
+        .pointer("/options/harmonics")
+        .and_then(Value::as_u64)
+        .unwrap_or(3)
+        .max(1);
     let markers = markers(analysis.get("theory"), harmonics, f_top);
     let peaks: Vec<Value> = peaks
         .and_then(|p| p.as_array().cloned())
         .unwrap_or_default()
         .into_iter()
-        .filter(|p| p.get("identified_hz").and_then(Value::as_f64).is_some_and(|f| f <= f_top))
+        .filter(|p| {
+            p.get("identified_hz")
+                .and_then(Value::as_f64)
+                .is_some_and(|f| f <= f_top)
+        })
         .collect();
     Ok(Json(json!({
         "id": id,
@@ -217,10 +306,14 @@ async fn spectra(state: AppState, kind: JobKind, id: String, q: Option<String>) 
 
 /// Theoretical characteristic frequencies and their harmonics up to `f_top`.
 fn markers(theory: Option<&Value>, harmonics: u64, f_top: f64) -> Vec<Value> {
-    let Some(Value::Object(t)) = theory else { return vec![] };
+    let Some(Value::Object(t)) = theory else {
+        return vec![];
+    };
     let mut out = vec![];
     for (name, f) in t {
-        let Some(f) = f.as_f64().filter(|f| *f > 0.0) else { continue };
+        let Some(f) = f.as_f64().filter(|f| *f > 0.0) else {
+            continue;
+        };
         let name = name.trim_end_matches("_hz");
         for h in 1..=harmonics {
             let fh = f * h as f64;
@@ -234,33 +327,77 @@ fn markers(theory: Option<&Value>, harmonics: u64, f_top: f64) -> Vec<Value> {
 
 macro_rules! kind_handlers {
     ($kind:expr, $get:ident, $list:ident, $cancel:ident, $delete:ident, $result:ident, $spectra:ident) => {
-        pub async fn $get(State(s): State<AppState>, Path(id): Path<String>, headers: HeaderMap, RawQuery(q): RawQuery) -> ApiResult<Response> {
+        pub async fn $get(
+            State(s): State<AppState>,
+            Path(id): Path<String>,
+            headers: HeaderMap,
+            RawQuery(q): RawQuery,
+        ) -> ApiResult<Response> {
             get_job(s, $kind, id, headers, q).await
         }
-        pub async fn $list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+        pub async fn $list(
+            State(s): State<AppState>,
+            RawQuery(q): RawQuery,
+        ) -> ApiResult<Response> {
             list(s, $kind, q).await
         }
-        pub async fn $cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+        pub async fn $cancel(
+            State(s): State<AppState>,
+            Path(id): Path<String>,
+        ) -> ApiResult<Response> {
             cancel(s, $kind, id).await
         }
-        pub async fn $delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+        pub async fn $delete(
+            State(s): State<AppState>,
+            Path(id): Path<String>,
+        ) -> ApiResult<Response> {
             delete(s, $kind, id).await
         }
-        pub async fn $result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+        pub async fn $result(
+            State(s): State<AppState>,
+            Path(id): Path<String>,
+        ) -> ApiResult<Response> {
             result(s, $kind, id).await
         }
-        pub async fn $spectra(State(s): State<AppState>, Path(id): Path<String>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+        pub async fn $spectra(
+            State(s): State<AppState>,
+            Path(id): Path<String>,
+            RawQuery(q): RawQuery,
+        ) -> ApiResult<Response> {
             spectra(s, $kind, id, q).await
         }
     };
 }
 
-kind_handlers!(JobKind::Simulation, get_simulation, list_simulations, cancel_simulation, delete_simulation, simulation_result, simulation_spectra);
-kind_handlers!(JobKind::Analysis, get_analysis, list_analyses, cancel_analysis, delete_analysis, analysis_result, analysis_spectra);
+kind_handlers!(
+    JobKind::Simulation,
+    get_simulation,
+    list_simulations,
+    cancel_simulation,
+    delete_simulation,
+    simulation_result,
+    simulation_spectra
+);
+kind_handlers!(
+    JobKind::Analysis,
+    get_analysis,
+    list_analyses,
+    cancel_analysis,
+    delete_analysis,
+    analysis_result,
+    analysis_spectra
+);
 
 /// Queue a job, honouring `Idempotency-Key`: 202 for a new job, 200 with the original
 /// job for a replay of the same request, 422 for the same key with a different request.
-pub async fn enqueue(state: &AppState, headers: &HeaderMap, kind: JobKind, label: String, input: Value, blob: Option<Vec<u8>>) -> ApiResult<Response> {
+pub async fn enqueue(
+    state: &AppState,
+    headers: &HeaderMap,
+    kind: JobKind,
+    label: String,
+    input: Value,
+    blob: Option<Vec<u8>>,
+) -> ApiResult<Response> {
     let key = match headers.get("idempotency-key") {
         None => None,
         Some(v) => {

@@ -26,11 +26,25 @@ pub async fn problem_for_every_error(req: Request, next: Next) -> Response {
         return res;
     }
     let (parts, body) = res.into_parts();
-    let text = axum::body::to_bytes(body, 16 * 1024).await.map(|b| String::from_utf8_lossy(&b).trim().to_string()).unwrap_or_default();
+    let text = axum::body::to_bytes(body, 16 * 1024)
+        .await
+        .map(|b| String::from_utf8_lossy(&b).trim().to_string())
+        .unwrap_or_default();
     let detail = match status {
-        StatusCode::METHOD_NOT_ALLOWED => "method not allowed on this resource (the Allow header lists the allowed ones)".into(),
-        StatusCode::REQUEST_TIMEOUT => "the request took longer than the configured request timeout".into(),
-        StatusCode::PAYLOAD_TOO_LARGE => format!("request body too large{}", if text.is_empty() { String::new() } else { format!(": {text}") }),
+        StatusCode::METHOD_NOT_ALLOWED => {
+            "method not allowed on this resource (the Allow header lists the allowed ones)".into()
+        }
+        StatusCode::REQUEST_TIMEOUT => {
+            "the request took longer than the configured request timeout".into()
+        }
+        StatusCode::PAYLOAD_TOO_LARGE => format!(
+            "request body too large{}",
+            if text.is_empty() {
+                String::new()
+            } else {
+                format!(": {text}")
+            }
+        ),
         _ if !text.is_empty() => text,
         _ => status.canonical_reason().unwrap_or("error").to_string(),
     };
@@ -44,10 +58,19 @@ pub async fn problem_for_every_error(req: Request, next: Next) -> Response {
 }
 
 pub async fn record_latency(State(state): State<AppState>, req: Request, next: Next) -> Response {
-    let route = req.extensions().get::<MatchedPath>().map(|p| p.as_str().to_string()).unwrap_or_else(|| "unmatched".into());
+    let route = req
+        .extensions()
+        .get::<MatchedPath>()
+        .map(|p| p.as_str().to_string())
+        .unwrap_or_else(|| "unmatched".into());
     let method = req.method().as_str().to_string();
     let start = Instant::now();
     let res = next.run(req).await;
-    state.metrics.observe_http(&method, &route, res.status().as_u16(), start.elapsed().as_secs_f64());
+    state.metrics.observe_http(
+        &method,
+        &route,
+        res.status().as_u16(),
+        start.elapsed().as_secs_f64(),
+    );
     res
 }

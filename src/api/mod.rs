@@ -53,7 +53,10 @@ pub fn router(state: AppState) -> Router {
         let handler = if route.long_poll {
             route.handler
         } else {
-            route.handler.layer(TimeoutLayer::with_status_code(StatusCode::REQUEST_TIMEOUT, timeout))
+            route.handler.layer(TimeoutLayer::with_status_code(
+                StatusCode::REQUEST_TIMEOUT,
+                timeout,
+            ))
         };
         app = app.route(route.path, handler);
     }
@@ -61,8 +64,13 @@ pub fn router(state: AppState) -> Router {
         .fallback(ops::no_route)
         .layer(DefaultBodyLimit::max(cfg.max_body_bytes))
         .layer(TraceLayer::new_for_http())
-        .layer(axum::middleware::from_fn(middleware::problem_for_every_error))
-        .layer(axum::middleware::from_fn_with_state(state.clone(), middleware::record_latency))
+        .layer(axum::middleware::from_fn(
+            middleware::problem_for_every_error,
+        ))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            middleware::record_latency,
+        ))
         .with_state(state);
     if let Some(cors) = cors_layer(&cfg.cors_origins) {
         app = app.layer(cors);
@@ -71,7 +79,12 @@ pub fn router(state: AppState) -> Router {
 }
 
 fn cors_layer(origins: &[String]) -> Option<CorsLayer> {
-    let origins: Vec<HeaderValue> = origins.iter().map(|o| o.trim()).filter(|o| !o.is_empty()).filter_map(|o| HeaderValue::from_str(o).ok()).collect();
+    let origins: Vec<HeaderValue> = origins
+        .iter()
+        .map(|o| o.trim())
+        .filter(|o| !o.is_empty())
+        .filter_map(|o| HeaderValue::from_str(o).ok())
+        .collect();
     if origins.is_empty() {
         return None;
     }
@@ -79,7 +92,12 @@ fn cors_layer(origins: &[String]) -> Option<CorsLayer> {
         CorsLayer::new()
             .allow_origin(AllowOrigin::list(origins))
             .allow_methods([Method::GET, Method::POST, Method::DELETE, Method::OPTIONS])
-            .allow_headers([header::CONTENT_TYPE, header::IF_NONE_MATCH, header::ACCEPT, HeaderName::from_static("idempotency-key")])
+            .allow_headers([
+                header::CONTENT_TYPE,
+                header::IF_NONE_MATCH,
+                header::ACCEPT,
+                HeaderName::from_static("idempotency-key"),
+            ])
             .expose_headers([header::LOCATION, header::ETAG, header::RETRY_AFTER])
             .max_age(Duration::from_secs(600)),
     )

@@ -20,15 +20,29 @@ pub async fn readyz(State(state): State<AppState>) -> ApiResult<Response> {
     if !state.ready.load(Ordering::SeqCst) {
         return Err(Problem::unavailable("shutting down"));
     }
-    state.store.ping().await.map_err(|e| Problem::unavailable(format!("database not reachable: {e}")))?;
+    state
+        .store
+        .ping()
+        .await
+        .map_err(|e| Problem::unavailable(format!("database not reachable: {e}")))?;
     Ok(Json(json!({"status": "ready"})).into_response())
 }
 
 pub async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let counts = state.store.counts().await?;
-    let by_state: Vec<(&str, i64)> = JobState::ALL.iter().map(|s| (s.as_str(), counts.get(*s))).collect();
+    let by_state: Vec<(&str, i64)> = JobState::ALL
+        .iter()
+        .map(|s| (s.as_str(), counts.get(*s)))
+        .collect();
     let text = state.metrics.render(&by_state, state.config.worker_count());
-    Ok(([(header::CONTENT_TYPE, "text/plain; version=0.0.4; charset=utf-8")], text).into_response())
+    Ok((
+        [(
+            header::CONTENT_TYPE,
+            "text/plain; version=0.0.4; charset=utf-8",
+        )],
+        text,
+    )
+        .into_response())
 }
 
 pub async fn openapi() -> Response {

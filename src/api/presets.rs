@@ -6,11 +6,17 @@ use axum::extract::Path;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use bearing_sim::scene::{fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase};
-use bearing_sim::signal::frequencies::{kinematic_preset, kinematic_preset_names, KinematicGeometry};
+use bearing_sim::signal::frequencies::{
+    kinematic_preset, kinematic_preset_names, KinematicGeometry,
+};
 use serde_json::{json, Value};
 
-const FAULT_CASES: [(&str, FaultCase); 4] =
-    [("none", FaultCase::None), ("inner", FaultCase::Inner), ("outer", FaultCase::Outer), ("compound", FaultCase::Compound)];
+const FAULT_CASES: [(&str, FaultCase); 4] = [
+    ("none", FaultCase::None),
+    ("inner", FaultCase::Inner),
+    ("outer", FaultCase::Outer),
+    ("compound", FaultCase::Compound),
+];
 
 fn names() -> Vec<String> {
     let mut v: Vec<String> = preset_names().iter().map(|s| s.to_string()).collect();
@@ -24,7 +30,11 @@ fn names() -> Vec<String> {
 
 fn summary(name: &str) -> Option<Value> {
     let scene = preset_scene(name);
-    let kin = kinematic_preset(name).or_else(|| scene.as_ref().map(|s| KinematicGeometry::from_bearing(&s.bearing)))?;
+    let kin = kinematic_preset(name).or_else(|| {
+        scene
+            .as_ref()
+            .map(|s| KinematicGeometry::from_bearing(&s.bearing))
+    })?;
     Some(json!({
         "name": name,
         "title": scene.as_ref().map(|s| s.name.clone()).unwrap_or_else(|| name.to_uppercase()),
@@ -42,7 +52,12 @@ pub async fn list() -> Response {
 
 pub async fn get(Path(name): Path<String>) -> ApiResult<Response> {
     let name = name.to_ascii_lowercase();
-    let mut body = summary(&name).ok_or_else(|| Problem::not_found(format!("no preset named '{name}'; presets: {}", names().join(", "))))?;
+    let mut body = summary(&name).ok_or_else(|| {
+        Problem::not_found(format!(
+            "no preset named '{name}'; presets: {}",
+            names().join(", ")
+        ))
+    })?;
     if let Some(scene) = preset_scene(&name) {
         body["scene"] = json!(scene);
         let mut cases = serde_json::Map::new();

@@ -37,7 +37,12 @@ fn type_uri(slug: &str) -> String {
 }
 
 impl Problem {
-    pub fn new(status: StatusCode, slug: Option<&str>, title: &str, detail: impl Into<String>) -> Problem {
+    pub fn new(
+        status: StatusCode,
+        slug: Option<&str>,
+        title: &str,
+        detail: impl Into<String>,
+    ) -> Problem {
         Problem {
             type_: slug.map(type_uri).unwrap_or_else(|| "about:blank".into()),
             title: title.into(),
@@ -51,25 +56,50 @@ impl Problem {
 
     /// A bare HTTP status (unknown route, wrong method, body too large, timeout ...).
     pub fn http(status: StatusCode, detail: impl Into<String>) -> Problem {
-        Problem::new(status, None, status.canonical_reason().unwrap_or("Error"), detail)
+        Problem::new(
+            status,
+            None,
+            status.canonical_reason().unwrap_or("Error"),
+            detail,
+        )
     }
 
     pub fn bad_request(detail: impl Into<String>) -> Problem {
-        Problem::new(StatusCode::BAD_REQUEST, Some("bad-request"), "Bad request", detail)
+        Problem::new(
+            StatusCode::BAD_REQUEST,
+            Some("bad-request"),
+            "Bad request",
+            detail,
+        )
     }
 
     pub fn not_found(detail: impl Into<String>) -> Problem {
-        Problem::new(StatusCode::NOT_FOUND, Some("not-found"), "Not found", detail)
+        Problem::new(
+            StatusCode::NOT_FOUND,
+            Some("not-found"),
+            "Not found",
+            detail,
+        )
     }
 
     pub fn conflict(detail: impl Into<String>, state: Option<&str>) -> Problem {
-        let mut p = Problem::new(StatusCode::CONFLICT, Some("invalid-state"), "Not possible in the job's current state", detail);
+        let mut p = Problem::new(
+            StatusCode::CONFLICT,
+            Some("invalid-state"),
+            "Not possible in the job's current state",
+            detail,
+        );
         p.job_state = state.map(String::from);
         p
     }
 
     pub fn unsupported_media(detail: impl Into<String>) -> Problem {
-        Problem::new(StatusCode::UNSUPPORTED_MEDIA_TYPE, Some("unsupported-media-type"), "Unsupported media type", detail)
+        Problem::new(
+            StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            Some("unsupported-media-type"),
+            "Unsupported media type",
+            detail,
+        )
     }
 
     pub fn validation(errors: Vec<FieldProblem>) -> Problem {
@@ -78,26 +108,51 @@ impl Problem {
         } else {
             format!("{} problems in the request; see errors", errors.len())
         };
-        let mut p = Problem::new(StatusCode::UNPROCESSABLE_ENTITY, Some("validation"), "Invalid request", detail);
+        let mut p = Problem::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("validation"),
+            "Invalid request",
+            detail,
+        );
         p.errors = Some(errors);
         p
     }
 
     pub fn field(path: &str, message: impl Into<String>) -> Problem {
-        Problem::validation(vec![FieldProblem { path: path.into(), message: message.into() }])
+        Problem::validation(vec![FieldProblem {
+            path: path.into(),
+            message: message.into(),
+        }])
     }
 
     /// Scene validation errors, their paths prefixed (e.g. with `scene.`).
     pub fn scene_invalid(prefix: &str, e: &ValidationErrors) -> Problem {
-        Problem::validation(e.0.iter().map(|f: &FieldError| FieldProblem { path: join_path(prefix, &f.path), message: f.message.clone() }).collect())
+        Problem::validation(
+            e.0.iter()
+                .map(|f: &FieldError| FieldProblem {
+                    path: join_path(prefix, &f.path),
+                    message: f.message.clone(),
+                })
+                .collect(),
+        )
     }
 
     pub fn internal(detail: impl Into<String>) -> Problem {
-        Problem::new(StatusCode::INTERNAL_SERVER_ERROR, Some("internal"), "Internal error", detail)
+        Problem::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            Some("internal"),
+            "Internal error",
+            detail,
+        )
     }
 
     pub fn unavailable(detail: impl Into<String>) -> Problem {
-        Problem::new(StatusCode::SERVICE_UNAVAILABLE, Some("unavailable"), "Service unavailable", detail)
+        Problem::new(
+            StatusCode::SERVICE_UNAVAILABLE,
+            Some("unavailable"),
+            "Service unavailable",
+            detail,
+        )
     }
 
     pub fn status(&self) -> StatusCode {
@@ -124,9 +179,11 @@ impl IntoResponse for Problem {
         let body = serde_json::to_vec(&self).unwrap_or_default();
         let mut res = Response::new(Body::from(body));
         *res.status_mut() = status;
-        res.headers_mut().insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
+        res.headers_mut()
+            .insert(header::CONTENT_TYPE, HeaderValue::from_static(PROBLEM_JSON));
         if let Some(s) = retry {
-            res.headers_mut().insert(header::RETRY_AFTER, HeaderValue::from(s));
+            res.headers_mut()
+                .insert(header::RETRY_AFTER, HeaderValue::from(s));
         }
         res
     }
@@ -136,9 +193,17 @@ impl From<StoreError> for Problem {
     fn from(e: StoreError) -> Problem {
         match e {
             StoreError::NotFound(id) => Problem::not_found(format!("no job with id {id}")),
-            StoreError::Conflict { id, state, message } => Problem::conflict(format!("job {id} is {state}: {message}"), Some(state.as_str())),
+            StoreError::Conflict { id, state, message } => Problem::conflict(
+                format!("job {id} is {state}: {message}"),
+                Some(state.as_str()),
+            ),
             StoreError::QueueFull(n) => {
-                let mut p = Problem::new(StatusCode::TOO_MANY_REQUESTS, Some("queue-full"), "Queue full", format!("{n} jobs are waiting; retry later"));
+                let mut p = Problem::new(
+                    StatusCode::TOO_MANY_REQUESTS,
+                    Some("queue-full"),
+                    "Queue full",
+                    format!("{n} jobs are waiting; retry later"),
+                );
                 p.retry_after = Some(5);
                 p
             }

@@ -11,7 +11,11 @@ use axum::response::{IntoResponse, Response};
 use axum::Json;
 use bearing_sim::simulation::SimError;
 
-pub async fn solve(State(state): State<AppState>, headers: HeaderMap, body: Bytes) -> ApiResult<Response> {
+pub async fn solve(
+    State(state): State<AppState>,
+    headers: HeaderMap,
+    body: Bytes,
+) -> ApiResult<Response> {
     require_json(&headers)?;
     let mut body = as_object(parse_value(&body)?)?;
     let rpm: Option<f64> = match body.remove("shaft_rpm") {
@@ -21,11 +25,21 @@ pub async fn solve(State(state): State<AppState>, headers: HeaderMap, body: Byte
     let scene = resolve_scene(&mut body, &["shaft_rpm"])?;
     let rpm = rpm.unwrap_or(scene.operating.speed.steady_rpm);
     if !rpm.is_finite() || rpm <= 0.0 || rpm > 100_000.0 {
-        return Err(Problem::field("shaft_rpm", "must be in (0, 100000] rev/min"));
+        return Err(Problem::field(
+            "shaft_rpm",
+            "must be in (0, 100000] rev/min",
+        ));
     }
-    let _permit = state.direct.clone().acquire_owned().await.map_err(|_| Problem::unavailable("shutting down"))?;
+    let _permit = state
+        .direct
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|_| Problem::unavailable("shutting down"))?;
     let solved = tokio::task::spawn_blocking(move || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| bearing_sim::quasi_static::solve(&scene, rpm)))
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            bearing_sim::quasi_static::solve(&scene, rpm)
+        }))
     })
     .await
     .map_err(|e| Problem::internal(format!("solver task failed: {e}")))?
@@ -33,6 +47,11 @@ pub async fn solve(State(state): State<AppState>, headers: HeaderMap, body: Byte
     match solved {
         Ok(solution) => Ok((StatusCode::OK, Json(solution)).into_response()),
         Err(SimError::Invalid(e)) => Err(Problem::scene_invalid("scene", &e)),
-        Err(e) => Err(Problem::new(StatusCode::UNPROCESSABLE_ENTITY, Some("solver-failed"), "The solver found no solution", e.to_string())),
+        Err(e) => Err(Problem::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            Some("solver-failed"),
+            "The solver found no solution",
+            e.to_string(),
+        )),
     }
 }

@@ -18,35 +18,81 @@ use serde_json::{json, Value};
 const DEFAULT_POINTS: usize = 10_000;
 const MAX_POINTS: usize = 1_000_000;
 
-pub async fn submit(State(state): State<AppState>, headers: HeaderMap, body: Bytes) -> ApiResult<Response> {
+pub async fn submit(
+    State(state): State<AppState>,
+    headers: HeaderMap,
+    body: Bytes,
+) -> ApiResult<Response> {
     require_json(&headers)?;
     let mut body = as_object(parse_value(&body)?)?;
     let scene = resolve_scene(&mut body, &[])?;
     let input = serde_json::to_value(&scene).map_err(|e| Problem::internal(e.to_string()))?;
-    enqueue(&state, &headers, JobKind::Simulation, scene.name.clone(), input, None).await
+    enqueue(
+        &state,
+        &headers,
+        JobKind::Simulation,
+        scene.name.clone(),
+        input,
+        None,
+    )
+    .await
 }
 
-pub async fn signals(State(state): State<AppState>, Path(id): Path<String>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+pub async fn signals(
+    State(state): State<AppState>,
+    Path(id): Path<String>,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
-    let channel = q.str("channel").ok_or_else(|| Problem::bad_request("query parameter 'channel' is required (see the result's channels list)"))?.to_string();
+    let channel = q
+        .str("channel")
+        .ok_or_else(|| {
+            Problem::bad_request(
+                "query parameter 'channel' is required (see the result's channels list)",
+            )
+        })?
+        .to_string();
     let from = q.f64("from")?;
     let to = q.f64("to")?;
     let max_points = q.get::<usize>("max_points")?.unwrap_or(DEFAULT_POINTS);
     if !(1..=MAX_POINTS).contains(&max_points) {
-        return Err(Problem::bad_request(format!("query parameter 'max_points' must be in 1..={MAX_POINTS}")));
+        return Err(Problem::bad_request(format!(
+            "query parameter 'max_points' must be in 1..={MAX_POINTS}"
+        )));
     }
     succeeded(&state, JobKind::Simulation, &id).await?;
-    let Some(a) = state.store.get_artifact(&id, &format!("channel:{channel}")).await? else {
-        return Err(Problem::not_found(format!("simulation {id} has no channel '{channel}'")));
+    let Some(a) = state
+        .store
+        .get_artifact(&id, &format!("channel:{channel}"))
+        .await?
+    else {
+        return Err(Problem::not_found(format!(
+            "simulation {id} has no channel '{channel}'"
+        )));
     };
-    let fs = a.meta.get("sample_rate").and_then(Value::as_f64).unwrap_or(1.0);
-    let t0 = a.meta.get("start_time").and_then(Value::as_f64).unwrap_or(0.0);
+    let fs = a
+        .meta
+        .get("sample_rate")
+        .and_then(Value::as_f64)
+        .unwrap_or(1.0);
+    let t0 = a
+        .meta
+        .get("start_time")
+        .and_then(Value::as_f64)
+        .unwrap_or(0.0);
     let unit = a.meta.get("unit").cloned().unwrap_or(Value::Null);
     let data = decode_f32le(&a.data);
     let n = data.len();
     // Sample k is at t0 + k / fs; the window keeps samples with from <= t <= to.
-    let first = from.map(|f| ((f - t0) * fs).ceil().max(0.0) as usize).unwrap_or(0).min(n);
-    let last = to.map(|t| (((t - t0) * fs).floor() + 1.0).max(0.0) as usize).unwrap_or(n).min(n).max(first);
+    let first = from
+        .map(|f| ((f - t0) * fs).ceil().max(0.0) as usize)
+        .unwrap_or(0)
+        .min(n);
+    let last = to
+        .map(|t| (((t - t0) * fs).floor() + 1.0).max(0.0) as usize)
+        .unwrap_or(n)
+        .min(n)
+        .max(first);
     let len = last - first;
     let step = len.div_ceil(max_points).max(1);
     let values: Vec<f64> = data[first..last].iter().step_by(step).copied().collect();

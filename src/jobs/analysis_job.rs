@@ -24,16 +24,33 @@ pub struct AnalysisRun {
 }
 
 pub fn run_analysis(input: &AnalysisInput, samples: &[f64]) -> Result<AnalysisRun, String> {
-    analyze(samples, input.sample_rate, &input.geometry, input.shaft_hz, &input.options)
-        .map(|output| AnalysisRun { output })
-        .map_err(|e| e.to_string())
+    analyze(
+        samples,
+        input.sample_rate,
+        &input.geometry,
+        input.shaft_hz,
+        &input.options,
+    )
+    .map(|output| AnalysisRun { output })
+    .map_err(|e| e.to_string())
 }
 
-pub fn execute(input: &serde_json::Value, blob: &[u8], ctl: &Control) -> Result<JobOutput, JobFailure> {
-    let input: AnalysisInput = serde_json::from_value(input.clone())
-        .map_err(|e| JobFailure::new("invalid", format!("stored analysis request does not parse: {e}")))?;
+pub fn execute(
+    input: &serde_json::Value,
+    blob: &[u8],
+    ctl: &Control,
+) -> Result<JobOutput, JobFailure> {
+    let input: AnalysisInput = serde_json::from_value(input.clone()).map_err(|e| {
+        JobFailure::new(
+            "invalid",
+            format!("stored analysis request does not parse: {e}"),
+        )
+    })?;
     if ctl.cancel.load(Ordering::SeqCst) {
-        return Err(JobFailure::new("cancelled", "cancelled before the analysis started"));
+        return Err(JobFailure::new(
+            "cancelled",
+            "cancelled before the analysis started",
+        ));
     }
     let samples = decode_f64le(blob);
     let run = run_analysis(&input, &samples).map_err(|m| JobFailure::new("analysis", m))?;

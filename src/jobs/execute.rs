@@ -42,7 +42,11 @@ pub struct JobFailure {
 
 impl JobFailure {
     pub fn new(kind: &'static str, message: impl Into<String>) -> Self {
-        JobFailure { kind, message: message.into(), stats: None }
+        JobFailure {
+            kind,
+            message: message.into(),
+            stats: None,
+        }
     }
     pub fn is_cancel(&self) -> bool {
         self.kind == "cancelled"
@@ -52,7 +56,9 @@ impl JobFailure {
 pub fn execute(job: &Claimed, ctl: &Control) -> Result<JobOutput, JobFailure> {
     match job.kind {
         JobKind::Simulation => run_simulation(&job.input, ctl),
-        JobKind::Analysis => analysis_job::execute(&job.input, job.input_blob.as_deref().unwrap_or(&[]), ctl),
+        JobKind::Analysis => {
+            analysis_job::execute(&job.input, job.input_blob.as_deref().unwrap_or(&[]), ctl)
+        }
     }
 }
 
@@ -60,12 +66,25 @@ fn run_simulation(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput,
     let scene: Scene = serde_json::from_value(input.clone())
         .map_err(|e| JobFailure::new("invalid", format!("stored scene does not parse: {e}")))?;
     let mut on_progress = |f: f64| ctl.set_progress(f);
-    let run = simulate(&scene, RunControl { cancel: Some(&ctl.cancel), progress: Some(&mut on_progress) });
+    let run = simulate(
+        &scene,
+        RunControl {
+            cancel: Some(&ctl.cancel),
+            progress: Some(&mut on_progress),
+        },
+    );
     let result = match run {
         Ok(r) => r,
-        Err(SimError::Cancelled { at }) => return Err(JobFailure::new("cancelled", format!("cancelled at t = {at} s"))),
+        Err(SimError::Cancelled { at }) => {
+            return Err(JobFailure::new(
+                "cancelled",
+                format!("cancelled at t = {at} s"),
+            ))
+        }
         Err(e @ SimError::Invalid(_)) => return Err(JobFailure::new("invalid", e.to_string())),
-        Err(e @ SimError::Numerical { .. }) => return Err(JobFailure::new("numerical", e.to_string())),
+        Err(e @ SimError::Numerical { .. }) => {
+            return Err(JobFailure::new("numerical", e.to_string()))
+        }
     };
     let stats = serde_json::to_value(&result.summary.stats).ok();
     // A NaN that slipped past the engine fails the job rather than poisoning stored results.
@@ -79,5 +98,9 @@ fn run_simulation(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput,
         }
     }
     let (summary, artifacts) = postprocess::summarize(&scene, &result);
-    Ok(JobOutput { result: summary, stats, artifacts })
+    Ok(JobOutput {
+        result: summary,
+        stats,
+        artifacts,
+    })
 }

@@ -51,7 +51,11 @@ impl WorkerPool {
             })
             .collect();
         let recovery = tokio::spawn(recovery_loop(env, rx));
-        WorkerPool { shutdown: tx, workers, recovery }
+        WorkerPool {
+            shutdown: tx,
+            workers,
+            recovery,
+        }
     }
 
     /// Stop claiming; running jobs are cancelled and requeued. Waits up to `grace`.

@@ -5,7 +5,9 @@ use super::analysis_job::{analysis_json, spectrum_artifacts};
 use crate::store::blob::encode_f32le;
 use crate::store::Artifact;
 use bearing_sim::scene::Scene;
-use bearing_sim::signal::analysis::{analyze_simulation, simulation_window, AnalysisOptions, AnalysisOutput};
+use bearing_sim::signal::analysis::{
+    analyze_simulation, simulation_window, AnalysisOptions, AnalysisOutput,
+};
 use bearing_sim::simulation::{Channels, SimResult};
 use serde_json::json;
 
@@ -93,7 +95,11 @@ fn analysis_options(scene: &Scene, result: &SimResult) -> AnalysisOptions {
         let t0 = result.channels.start_time;
         let duration = scene.solver.duration;
         let w = simulation_window(scene.operating.speed.ramp_time, duration);
-        let w = if w[1] - w[0] >= MIN_WINDOW { w } else { [0.5 * duration, duration] };
+        let w = if w[1] - w[0] >= MIN_WINDOW {
+            w
+        } else {
+            [0.5 * duration, duration]
+        };
         opts.window = Some([(w[0] - t0).max(0.0), (w[1] - t0).max(0.0)]);
     }
     opts
@@ -103,7 +109,12 @@ fn run_analysis(scene: &Scene, result: &SimResult) -> Result<(String, AnalysisOu
     let channel = ANALYSIS_CHANNELS
         .iter()
         .find(|n| result.channels.get(n).is_some())
-        .ok_or_else(|| format!("no channel named {} to analyse", ANALYSIS_CHANNELS.join(" or ")))?;
+        .ok_or_else(|| {
+            format!(
+                "no channel named {} to analyse",
+                ANALYSIS_CHANNELS.join(" or ")
+            )
+        })?;
     let out = analyze_simulation(result, scene, channel, &analysis_options(scene, result))
         .map_err(|e| format!("analysis of {channel} not possible: {e}"))?;
     Ok((channel.to_string(), out))

@@ -89,12 +89,38 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
         }
     };
 
-    let Ending::Finished(result) = ending else { return };
+    let Ending::Finished(result) = ending else {
+        return;
+    };
     let (state, write) = match result {
-        Ok(out) => ("succeeded", Some(Outcome::Succeeded { result: out.result, stats: out.stats, artifacts: out.artifacts })),
+        Ok(out) => (
+            "succeeded",
+            Some(Outcome::Succeeded {
+                result: out.result,
+                stats: out.stats,
+                artifacts: out.artifacts,
+            }),
+        ),
         Err(f) if f.is_cancel() && stopping && !user_cancel => ("requeued", None),
-        Err(f) if f.is_cancel() => ("cancelled", Some(Outcome::Cancelled { error: JobError { kind: f.kind.into(), message: f.message } })),
-        Err(f) => ("failed", Some(Outcome::Failed { error: JobError { kind: f.kind.into(), message: f.message }, stats: f.stats })),
+        Err(f) if f.is_cancel() => (
+            "cancelled",
+            Some(Outcome::Cancelled {
+                error: JobError {
+                    kind: f.kind.into(),
+                    message: f.message,
+                },
+            }),
+        ),
+        Err(f) => (
+            "failed",
+            Some(Outcome::Failed {
+                error: JobError {
+                    kind: f.kind.into(),
+                    message: f.message,
+                },
+                stats: f.stats,
+            }),
+        ),
     };
     let written = match write {
         Some(outcome) => env.store.finish(&lease, outcome).await,
@@ -106,14 +132,20 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
             env.metrics.observe_job(kind, state, secs);
             tracing::info!(state, seconds = secs, "job ended");
         }
-        Err(StoreError::LeaseLost) => tracing::warn!(state, "lease lost before the outcome was written; discarded"),
-        Err(e) => tracing::error!(error = %e, state, "could not record the outcome; the lease will expire and requeue the job"),
+        Err(StoreError::LeaseLost) => tracing::warn!(
+            state,
+            "lease lost before the outcome was written; discarded"
+        ),
+        Err(e) => {
+            tracing::error!(error = %e, state, "could not record the outcome; the lease will expire and requeue the job")
+        }
     }
 }
 
 /// A panic in the engine fails this job with its message, not the process.
 fn guarded(run: impl FnOnce() -> Result<JobOutput, JobFailure>) -> Result<JobOutput, JobFailure> {
-    catch_unwind(AssertUnwindSafe(run)).unwrap_or_else(|p| Err(JobFailure::new("panic", panic_message(&p))))
+    catch_unwind(AssertUnwindSafe(run))
+        .unwrap_or_else(|p| Err(JobFailure::new("panic", panic_message(&p))))
 }
 
 fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {

@@ -12,7 +12,10 @@ pub fn encode_f32le(data: &[f64]) -> Vec<u8> {
 }
 
 pub fn decode_f32le(bytes: &[u8]) -> Vec<f64> {
-    bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64).collect()
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64)
+        .collect()
 }
 
 /// Analysis inputs keep full precision: they are the measurement itself.

@@ -19,7 +19,11 @@ pub enum StoreError {
     NotFound(String),
     /// The job is in a state that does not allow the operation.
     #[error("job {id} is {state}: {message}")]
-    Conflict { id: String, state: JobState, message: String },
+    Conflict {
+        id: String,
+        state: JobState,
+        message: String,
+    },
     #[error("the queue is full ({0} jobs waiting)")]
     QueueFull(i64),
     /// Same Idempotency-Key, different request.
@@ -60,7 +64,12 @@ pub trait Store: Send + Sync + 'static {
     async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError>;
 
     /// Renew the lease and record progress; tells whether cancel was requested.
-    async fn heartbeat(&self, lease: &Lease, progress: f64, lease_ms: i64) -> Result<Heartbeat, StoreError>;
+    async fn heartbeat(
+        &self,
+        lease: &Lease,
+        progress: f64,
+        lease_ms: i64,
+    ) -> Result<Heartbeat, StoreError>;
 
     /// Record the final state of a claimed job. Fenced: `LeaseLost` if `lease` is stale.
     async fn finish(&self, lease: &Lease, outcome: Outcome) -> Result<(), StoreError>;

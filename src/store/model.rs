@@ -14,8 +14,13 @@ pub enum JobState {
 }
 
 impl JobState {
-    pub const ALL: [JobState; 5] =
-        [JobState::Queued, JobState::Running, JobState::Succeeded, JobState::Failed, JobState::Cancelled];
+    pub const ALL: [JobState; 5] = [
+        JobState::Queued,
+        JobState::Running,
+        JobState::Succeeded,
+        JobState::Failed,
+        JobState::Cancelled,
+    ];
 
     pub fn as_str(self) -> &'static str {
         match self {
@@ -32,7 +37,10 @@ impl JobState {
     }
 
     pub fn is_finished(self) -> bool {
-        matches!(self, JobState::Succeeded | JobState::Failed | JobState::Cancelled)
+        matches!(
+            self,
+            JobState::Succeeded | JobState::Failed | JobState::Cancelled
+        )
     }
 }
 
@@ -165,9 +173,18 @@ pub struct Artifact {
 /// How a claimed job ended.
 #[derive(Debug, Clone)]
 pub enum Outcome {
-    Succeeded { result: serde_json::Value, stats: Option<serde_json::Value>, artifacts: Vec<Artifact> },
-    Failed { error: JobError, stats: Option<serde_json::Value> },
-    Cancelled { error: JobError },
+    Succeeded {
+        result: serde_json::Value,
+        stats: Option<serde_json::Value>,
+        artifacts: Vec<Artifact>,
+    },
+    Failed {
+        error: JobError,
+        stats: Option<serde_json::Value>,
+    },
+    Cancelled {
+        error: JobError,
+    },
 }
 
 #[derive(Debug, Clone, Default)]

@@ -6,7 +6,9 @@
 
 use super::*;
 use async_trait::async_trait;
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteRow, SqliteSynchronous};
+use sqlx::sqlite::{
+    SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteRow, SqliteSynchronous,
+};
 use sqlx::{Row, SqlitePool};
 use std::str::FromStr;
 use std::time::Duration;
@@ -15,7 +17,8 @@ pub struct SqliteStore {
     pool: SqlitePool,
 }
 
-const JOB_COLUMNS: &str = "seq, id, kind, state, label, progress, attempt, cancel_requested, version, \
+const JOB_COLUMNS: &str =
+    "seq, id, kind, state, label, progress, attempt, cancel_requested, version, \
      created_at, started_at, finished_at, updated_at, error, stats, result";
 
 impl SqliteStore {
@@ -58,7 +61,8 @@ fn parse_json(s: Option<String>) -> Option<serde_json::Value> {
 fn job_from_row(r: &SqliteRow) -> Result<Job, StoreError> {
     let kind: String = r.try_get("kind")?;
     let state: String = r.try_get("state")?;
-    let decode = |what: &str, v: &str| sqlx::Error::Decode(format!("bad {what} '{v}' in jobs row").into());
+    let decode =
+        |what: &str, v: &str| sqlx::Error::Decode(format!("bad {what} '{v}' in jobs row").into());
     Ok(Job {
         seq: r.try_get("seq")?,
         id: r.try_get("id")?,
@@ -113,14 +117,18 @@ impl Store for SqliteStore {
         .await?
         .rows_affected();
         if inserted == 1 {
-            let job = self.fetch_job(&job.id).await?.ok_or_else(|| StoreError::NotFound(job.id.clone()))?;
+            let job = self
+                .fetch_job(&job.id)
+                .await?
+                .ok_or_else(|| StoreError::NotFound(job.id.clone()))?;
             return Ok(Created { job, created: true });
         }
         if let Some(key) = &job.idempotency_key {
-            let row = sqlx::query("SELECT id, request_hash, kind FROM jobs WHERE idempotency_key = ?")
-                .bind(key)
-                .fetch_optional(&self.pool)
-                .await?;
+            let row =
+                sqlx::query("SELECT id, request_hash, kind FROM jobs WHERE idempotency_key = ?")
+                    .bind(key)
+                    .fetch_optional(&self.pool)
+                    .await?;
             if let Some(row) = row {
                 let id: String = row.try_get("id")?;
                 let hash: Option<String> = row.try_get("request_hash")?;
@@ -129,14 +137,19 @@ impl Store for SqliteStore {
                     return Err(StoreError::IdempotencyMismatch(id));
                 }
                 let existing = self.fetch_job(&id).await?.ok_or(StoreError::NotFound(id))?;
-                return Ok(Created { job: existing, created: false });
+                return Ok(Created {
+                    job: existing,
+                    created: false,
+                });
             }
         }
         Err(StoreError::QueueFull(self.counts().await?.queued))
     }
 
     async fn get_job(&self, id: &str) -> Result<Job, StoreError> {
-        self.fetch_job(id).await?.ok_or_else(|| StoreError::NotFound(id.to_string()))
+        self.fetch_job(id)
+            .await?
+            .ok_or_else(|| StoreError::NotFound(id.to_string()))
     }
 
     async fn list_jobs(&self, f: &ListFilter) -> Result<Page, StoreError> {
@@ -152,7 +165,10 @@ impl Store for SqliteStore {
         .bind(limit + 1)
         .fetch_all(&self.pool)
         .await?;
-        let mut jobs = rows.iter().map(job_from_row).collect::<Result<Vec<_>, _>>()?;
+        let mut jobs = rows
+            .iter()
+            .map(job_from_row)
+            .collect::<Result<Vec<_>, _>>()?;
         let next = if jobs.len() as i64 > limit {
             jobs.truncate(limit as usize);
             jobs.last().map(|j| j.seq)
@@ -164,7 +180,10 @@ impl Store for SqliteStore {
 
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError> {
         let now = now_ms();
-        let err = JobError { kind: "cancelled".into(), message: "cancelled while queued".into() };
+        let err = JobError {
+            kind: "cancelled".into(),
+            message: "cancelled while queued".into(),
+        };
         let done = sqlx::query(
             "UPDATE jobs SET state = 'cancelled', finished_at = ?2, updated_at = ?2, version = version + 1, \
              cancel_requested = 1, error = ?3 WHERE id = ?1 AND state = 'queued'",
@@ -197,11 +216,13 @@ impl Store for SqliteStore {
     }
 
     async fn delete_job(&self, id: &str) -> Result<(), StoreError> {
-        let n = sqlx::query("DELETE FROM jobs WHERE id = ? AND state IN ('succeeded', 'failed', 'cancelled')")
-            .bind(id)
-            .execute(&self.pool)
-            .await?
-            .rows_affected();
+        let n = sqlx::query(
+            "DELETE FROM jobs WHERE id = ? AND state IN ('succeeded', 'failed', 'cancelled')",
+        )
+        .bind(id)
+        .execute(&self.pool)
+        .await?
+        .rows_affected();
         if n == 0 {
             let job = self.get_job(id).await?;
             return Err(StoreError::Conflict {
@@ -230,7 +251,11 @@ impl Store for SqliteStore {
         let kind: String = r.try_get("kind")?;
         let input: String = r.try_get("input")?;
         Ok(Some(Claimed {
-            lease: Lease { id: r.try_get("id")?, owner: owner.to_string(), attempt: r.try_get("attempt")? },
+            lease: Lease {
+                id: r.try_get("id")?,
+                owner: owner.to_string(),
+                attempt: r.try_get("attempt")?,
+            },
             kind: JobKind::parse(&kind).unwrap_or(JobKind::Simulation),
             input: serde_json::from_str(&input).unwrap_or(serde_json::Value::Null),
             input_blob: r.try_get("input_blob")?,
@@ -238,9 +263,18 @@ impl Store for SqliteStore {
         }))
     }
 
-    async fn heartbeat(&self, lease: &Lease, progress: f64, lease_ms: i64) -> Result<Heartbeat, StoreError> {
+    async fn heartbeat(
+        &self,
+        lease: &Lease,
+        progress: f64,
+        lease_ms: i64,
+    ) -> Result<Heartbeat, StoreError> {
         let now = now_ms();
-        let progress = if progress.is_finite() { progress.clamp(0.0, 1.0) } else { 0.0 };
+        let progress = if progress.is_finite() {
+            progress.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         let row = sqlx::query(
             "UPDATE jobs SET lease_expires_at = ?4, progress = MAX(progress, ?5), updated_at = ?6, \
                  version = version + (CASE WHEN progress < ?5 THEN 1 ELSE 0 END) \
@@ -256,7 +290,9 @@ impl Store for SqliteStore {
         .fetch_optional(&self.pool)
         .await?;
         match row {
-            Some(r) => Ok(Heartbeat { cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0 }),
+            Some(r) => Ok(Heartbeat {
+                cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0,
+            }),
             None => Err(StoreError::LeaseLost),
         }
     }
@@ -264,7 +300,11 @@ impl Store for SqliteStore {
     async fn finish(&self, lease: &Lease, outcome: Outcome) -> Result<(), StoreError> {
         let now = now_ms();
         let (state, progress, error, stats, result, artifacts) = match outcome {
-            Outcome::Succeeded { result, stats, artifacts } => ("succeeded", Some(1.0), None, stats, Some(result), artifacts),
+            Outcome::Succeeded {
+                result,
+                stats,
+                artifacts,
+            } => ("succeeded", Some(1.0), None, stats, Some(result), artifacts),
             Outcome::Failed { error, stats } => ("failed", None, Some(error), stats, None, vec![]),
             Outcome::Cancelled { error } => ("cancelled", None, Some(error), None, None, vec![]),
         };
@@ -292,13 +332,15 @@ impl Store for SqliteStore {
             return Err(StoreError::LeaseLost);
         }
         for a in artifacts {
-            sqlx::query("INSERT OR REPLACE INTO artifacts (job_id, name, meta, data) VALUES (?, ?, ?, ?)")
-                .bind(&lease.id)
-                .bind(&a.name)
-                .bind(a.meta.to_string())
-                .bind(a.data)
-                .execute(&mut *tx)
-                .await?;
+            sqlx::query(
+                "INSERT OR REPLACE INTO artifacts (job_id, name, meta, data) VALUES (?, ?, ?, ?)",
+            )
+            .bind(&lease.id)
+            .bind(&a.name)
+            .bind(a.meta.to_string())
+            .bind(a.data)
+            .execute(&mut *tx)
+            .await?;
         }
         tx.commit().await?;
         Ok(())
@@ -327,7 +369,9 @@ impl Store for SqliteStore {
         let now = now_ms();
         let err = JobError {
             kind: "lease_expired".into(),
-            message: format!("the worker running this job stopped responding {max_attempts} times; giving up"),
+            message: format!(
+                "the worker running this job stopped responding {max_attempts} times; giving up"
+            ),
         };
         // A job asked to cancel is not run again: it ends cancelled.
         let cancelled = sqlx::query(
@@ -364,11 +408,12 @@ impl Store for SqliteStore {
     }
 
     async fn get_artifact(&self, id: &str, name: &str) -> Result<Option<Artifact>, StoreError> {
-        let row = sqlx::query("SELECT name, meta, data FROM artifacts WHERE job_id = ? AND name = ?")
-            .bind(id)
-            .bind(name)
-            .fetch_optional(&self.pool)
-            .await?;
+        let row =
+            sqlx::query("SELECT name, meta, data FROM artifacts WHERE job_id = ? AND name = ?")
+                .bind(id)
+                .bind(name)
+                .fetch_optional(&self.pool)
+                .await?;
         Ok(match row {
             Some(r) => {
                 let meta: String = r.try_get("meta")?;
@@ -383,7 +428,9 @@ impl Store for SqliteStore {
     }
 
     async fn counts(&self) -> Result<StateCounts, StoreError> {
-        let rows = sqlx::query("SELECT state, COUNT(*) AS n FROM jobs GROUP BY state").fetch_all(&self.pool).await?;
+        let rows = sqlx::query("SELECT state, COUNT(*) AS n FROM jobs GROUP BY state")
+            .fetch_all(&self.pool)
+            .await?;
         let mut c = StateCounts::default();
         for r in rows {
             let s: String = r.try_get("state")?;
@@ -430,13 +477,34 @@ mod tests {
         let b = s.claim("B", 60_000).await.unwrap().unwrap().lease;
         assert_eq!(b.attempt, 2);
         // A wakes up: every write of its lease is refused.
-        assert!(matches!(s.heartbeat(&a, 0.5, 1000).await, Err(StoreError::LeaseLost)));
-        let late = Outcome::Failed { error: JobError { kind: "x".into(), message: "stale".into() }, stats: None };
-        assert!(matches!(s.finish(&a, late).await, Err(StoreError::LeaseLost)));
+        assert!(matches!(
+            s.heartbeat(&a, 0.5, 1000).await,
+            Err(StoreError::LeaseLost)
+        ));
+        let late = Outcome::Failed {
+            error: JobError {
+                kind: "x".into(),
+                message: "stale".into(),
+            },
+            stats: None,
+        };
+        assert!(matches!(
+            s.finish(&a, late).await,
+            Err(StoreError::LeaseLost)
+        ));
         assert!(matches!(s.release(&a).await, Err(StoreError::LeaseLost)));
         // B's outcome stands.
         s.heartbeat(&b, 0.5, 60_000).await.unwrap();
-        s.finish(&b, Outcome::Succeeded { result: json!({"ok": true}), stats: None, artifacts: vec![] }).await.unwrap();
+        s.finish(
+            &b,
+            Outcome::Succeeded {
+                result: json!({"ok": true}),
+                stats: None,
+                artifacts: vec![],
+            },
+        )
+        .await
+        .unwrap();
         let job = s.get_job(&id).await.unwrap();
         assert_eq!(job.state, JobState::Succeeded);
         assert_eq!(job.result, Some(json!({"ok": true})));
@@ -467,19 +535,37 @@ mod tests {
         let replay = s.create_job(new_job(Some("k"), "h1"), 2).await.unwrap();
         assert!(!replay.created);
         assert_eq!(replay.job.id, first.job.id);
-        assert!(matches!(s.create_job(new_job(Some("k"), "h2"), 2).await, Err(StoreError::IdempotencyMismatch(_))));
+        assert!(matches!(
+            s.create_job(new_job(Some("k"), "h2"), 2).await,
+            Err(StoreError::IdempotencyMismatch(_))
+        ));
         s.create_job(new_job(None, "h"), 2).await.unwrap();
-        assert!(matches!(s.create_job(new_job(None, "h"), 2).await, Err(StoreError::QueueFull(2))));
+        assert!(matches!(
+            s.create_job(new_job(None, "h"), 2).await,
+            Err(StoreError::QueueFull(2))
+        ));
 
         // queued -> cancelled at once; running -> flagged, seen by the heartbeat
         let c = s.request_cancel(&first.job.id).await.unwrap();
         assert_eq!(c.state, JobState::Cancelled);
-        assert!(matches!(s.request_cancel(&first.job.id).await, Err(StoreError::Conflict { .. })));
+        assert!(matches!(
+            s.request_cancel(&first.job.id).await,
+            Err(StoreError::Conflict { .. })
+        ));
         let l = s.claim("A", 60_000).await.unwrap().unwrap().lease;
         assert!(!s.heartbeat(&l, 0.1, 60_000).await.unwrap().cancel_requested);
-        assert_eq!(s.request_cancel(&l.id).await.unwrap().state, JobState::Running);
+        assert_eq!(
+            s.request_cancel(&l.id).await.unwrap().state,
+            JobState::Running
+        );
         assert!(s.heartbeat(&l, 0.2, 60_000).await.unwrap().cancel_requested);
-        assert!(matches!(s.delete_job(&l.id).await, Err(StoreError::Conflict { .. })));
-        assert!(matches!(s.get_job("nope").await, Err(StoreError::NotFound(_))));
+        assert!(matches!(
+            s.delete_job(&l.id).await,
+            Err(StoreError::Conflict { .. })
+        ));
+        assert!(matches!(
+            s.get_job("nope").await,
+            Err(StoreError::NotFound(_))
+        ));
     }
 }

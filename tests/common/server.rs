@@ -16,7 +16,13 @@ pub struct Server {
 impl Server {
     /// Start on `db` (a file path) with extra flags; returns once it listens.
     pub fn start(db: &Path, args: &[&str]) -> Server {
-        let log = db.with_extension(format!("log{}", std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_nanos()));
+        let log = db.with_extension(format!(
+            "log{}",
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .unwrap()
+                .as_nanos()
+        ));
         let log_file = std::fs::File::create(&log).unwrap();
         let mut child = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
             .arg("serve")
@@ -37,7 +43,10 @@ impl Server {
                         break url.trim().to_string();
                     }
                 }
-                _ => panic!("server exited before listening; log:\n{}", std::fs::read_to_string(&log).unwrap_or_default()),
+                _ => panic!(
+                    "server exited before listening; log:\n{}",
+                    std::fs::read_to_string(&log).unwrap_or_default()
+                ),
             }
         };
         // Keep draining stdout so the child never blocks on a full pipe.
@@ -57,7 +66,9 @@ impl Server {
 
     /// SIGTERM and wait for the process to exit.
     pub fn terminate(&mut self) -> std::process::ExitStatus {
-        let _ = Command::new("kill").args(["-TERM", &self.child.id().to_string()]).status();
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
         self.child.wait().unwrap()
     }
 
@@ -73,7 +84,10 @@ impl Drop for Server {
 }
 
 pub fn client() -> reqwest::Client {
-    reqwest::Client::builder().timeout(Duration::from_secs(60)).build().unwrap()
+    reqwest::Client::builder()
+        .timeout(Duration::from_secs(60))
+        .build()
+        .unwrap()
 }
 
 /// A short simulation request: the H7005C compound-fault preset, `duration` s.
@@ -87,12 +101,20 @@ pub fn steady_scene(duration: f64) -> Value {
            "overrides": {"operating": {"speed": {"ramp_time": 0.005}}, "solver": {"duration": duration}}})
 }
 
-pub async fn post_json(c: &reqwest::Client, url: &str, body: &Value) -> (u16, reqwest::header::HeaderMap, Value) {
+pub async fn post_json(
+    c: &reqwest::Client,
+    url: &str,
+    body: &Value,
+) -> (u16, reqwest::header::HeaderMap, Value) {
     let r = c.post(url).json(body).send().await.unwrap();
     let status = r.status().as_u16();
     let headers = r.headers().clone();
     let text = r.text().await.unwrap();
-    (status, headers, serde_json::from_str(&text).unwrap_or(Value::String(text)))
+    (
+        status,
+        headers,
+        serde_json::from_str(&text).unwrap_or(Value::String(text)),
+    )
 }
 
 pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
@@ -100,7 +122,11 @@ pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::
     let status = r.status().as_u16();
     let headers = r.headers().clone();
     let text = r.text().await.unwrap();
-    (status, headers, serde_json::from_str(&text).unwrap_or(Value::String(text)))
+    (
+        status,
+        headers,
+        serde_json::from_str(&text).unwrap_or(Value::String(text)),
+    )
 }
 
 pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
@@ -110,7 +136,13 @@ pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
 }
 
 /// Poll a job until `pred` holds, panicking with the last state after `timeout`.
-pub async fn wait_until(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration, pred: impl Fn(&Value) -> bool) -> Value {
+pub async fn wait_until(
+    c: &reqwest::Client,
+    s: &Server,
+    id: &str,
+    timeout: Duration,
+    pred: impl Fn(&Value) -> bool,
+) -> Value {
     let start = Instant::now();
     loop {
         let (status, _, job) = get_json(c, &s.url(&format!("/v1/simulations/{id}"))).await;
@@ -126,13 +158,23 @@ pub async fn wait_until(c: &reqwest::Client, s: &Server, id: &str, timeout: Dura
 }
 
 pub async fn wait_finished(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration) -> Value {
-    wait_until(c, s, id, timeout, |j| matches!(j["state"].as_str(), Some("succeeded" | "failed" | "cancelled"))).await
+    wait_until(c, s, id, timeout, |j| {
+        matches!(
+            j["state"].as_str(),
+            Some("succeeded" | "failed" | "cancelled")
+        )
+    })
+    .await
 }
 
 /// Every problem response has the RFC 9457 members and content type.
 pub fn assert_problem(status: u16, headers: &reqwest::header::HeaderMap, body: &Value, want: u16) {
     assert_eq!(status, want, "{body}");
-    assert_eq!(headers.get("content-type").unwrap(), "application/problem+json", "{body}");
+    assert_eq!(
+        headers.get("content-type").unwrap(),
+        "application/problem+json",
+        "{body}"
+    );
     assert_eq!(body["status"].as_u64(), Some(want as u64), "{body}");
     for k in ["type", "title", "detail"] {
         assert!(body[k].is_string(), "problem lacks {k}: {body}");
