@@ -188,6 +188,14 @@ async fn spectra(
 ) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let level = q.get::<usize>("level")?;
+    if let Some(l) = level {
+        if !(1..=bearing_sim::signal::analysis::MAX_LEVELS).contains(&l) {
+            return Err(Problem::bad_request(format!(
+                "query parameter 'level' must be in 1..={}",
+                bearing_sim::signal::analysis::MAX_LEVELS
+            )));
+        }
+    }
     // `level` alone implies kind=level; with another kind it is ignored.
     let which = q
         .str("kind")
