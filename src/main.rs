@@ -1,7 +1,12 @@
 //! `bearing-sim`: CLI and HTTP service around the bearing_sim library.
 
+mod api;
 mod cli;
+mod config;
+mod jobs;
+mod metrics;
 mod serve;
+mod store;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

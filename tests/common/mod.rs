@@ -1,6 +1,10 @@
 //! Helpers shared by the signal integration tests.
 #![allow(dead_code)]
 
+mod server;
+#[allow(unused_imports)]
+pub use server::*;
+
 use std::f64::consts::PI;
 
 /// Deterministic xorshift64* generator with Box-Muller normals (no dependency, reproducible).

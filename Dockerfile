@@ -1,0 +1,33 @@
+# syntax=docker/dockerfile:1
+# bearing-sim service image: a locked release build, run as a non-root user on a
+# distroless base; the SQLite database lives in the /data volume.
+
+FROM rust:1.95-bookworm AS build
+WORKDIR /src
+COPY Cargo.toml Cargo.lock ./
+COPY src ./src
+# Cargo.toml declares the bench target, so its source must be present to build at all.
+COPY benches ./benches
+COPY migrations ./migrations
+COPY openapi.yaml ./
+# --locked: exactly the dependency versions of Cargo.lock, as CI builds them.
+RUN --mount=type=cache,target=/usr/local/cargo/registry \
+    --mount=type=cache,target=/src/target \
+    cargo build --release --locked --bin bearing-sim \
+    && cp target/release/bearing-sim /bearing-sim \
+    && mkdir /data
+
+FROM gcr.io/distroless/cc-debian12:nonroot
+COPY --from=build /bearing-sim /usr/local/bin/bearing-sim
+COPY --from=build --chown=65532:65532 /data /data
+ENV BEARING_SIM_BIND=0.0.0.0:8080 \
+    BEARING_SIM_DATABASE_URL=sqlite:///data/bearing-sim.db \
+    BEARING_SIM_LOG_FORMAT=json
+USER 65532:65532
+VOLUME ["/data"]
+EXPOSE 8080
+# The binary probes its own /healthz: the image has no shell or curl.
+HEALTHCHECK --interval=15s --timeout=5s --start-period=10s --retries=3 \
+    CMD ["/usr/local/bin/bearing-sim", "serve", "--probe"]
+ENTRYPOINT ["/usr/local/bin/bearing-sim"]
+CMD ["serve"]

@@ -1,0 +1,140 @@
+//! The single route table: the router is built from it and a test checks that
+//! `openapi.yaml` documents exactly these paths and methods.
+
+use super::{analyses, jobs, ops, presets, quasi_static, simulations, AppState};
+use axum::handler::Handler;
+use axum::routing::{on, MethodFilter, MethodRouter};
+
+pub struct RouteDef {
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub method: &'static str,
+    pub path: &'static str,
+    /// Exempt from the request timeout (it may wait on purpose).
+    pub long_poll: bool,
+    pub handler: MethodRouter<AppState>,
+}
+
+/// The method string both filters the handler and names the operation in the spec test.
+fn r<H: Handler<T, AppState>, T: 'static>(
+    method: &'static str,
+    path: &'static str,
+    handler: H,
+) -> RouteDef {
+    let filter = match method {
+        "get" => MethodFilter::GET,
+        "post" => MethodFilter::POST,
+        "delete" => MethodFilter::DELETE,
+        other => panic!("route table: unsupported method {other}"),
+    };
+    RouteDef {
+        method,
+        path,
+        long_poll: false,
+        handler: on(filter, handler),
+    }
+}
+
+pub fn table() -> Vec<RouteDef> {
+    vec![
+        r("post", "/v1/simulations", simulations::submit),
+        r("get", "/v1/simulations", jobs::list_simulations),
+        RouteDef {
+            long_poll: true,
+            ..r("get", "/v1/simulations/{id}", jobs::get_simulation)
+        },
+        r("delete", "/v1/simulations/{id}", jobs::delete_simulation),
+        r(
+            "post",
+            "/v1/simulations/{id}/cancel",
+            jobs::cancel_simulation,
+        ),
+        r(
+            "get",
+            "/v1/simulations/{id}/result",
+            jobs::simulation_result,
+        ),
+        r("get", "/v1/simulations/{id}/signals", simulations::signals),
+        r(
+            "get",
+            "/v1/simulations/{id}/spectra",
+            jobs::simulation_spectra,
+        ),
+        r("post", "/v1/analyses", analyses::submit),
+        r("get", "/v1/analyses", jobs::list_analyses),
+        RouteDef {
+            long_poll: true,
+            ..r("get", "/v1/analyses/{id}", jobs::get_analysis)
+        },
+        r("delete", "/v1/analyses/{id}", jobs::delete_analysis),
+        r("post", "/v1/analyses/{id}/cancel", jobs::cancel_analysis),
+        r("get", "/v1/analyses/{id}/result", jobs::analysis_result),
+        r("get", "/v1/analyses/{id}/spectra", jobs::analysis_spectra),
+        r("post", "/v1/quasi-static", quasi_static::solve),
+        r("get", "/v1/presets", presets::list),
+        r("get", "/v1/presets/{name}", presets::get),
+        r("get", "/healthz", ops::healthz),
+        r("get", "/readyz", ops::readyz),
+        r("get", "/metrics", ops::metrics),
+        r("get", "/openapi.yaml", ops::openapi),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    /// (method, path) pairs under `paths:` of the committed spec. The spec is hand-written
+    /// with two-space indentation: paths at depth 1, operations at depth 2.
+    fn spec_operations() -> BTreeSet<(String, String)> {
+        let spec = include_str!("../../openapi.yaml");
+        let mut in_paths = false;
+        let mut current = None::<String>;
+        let mut ops = BTreeSet::new();
+        for line in spec.lines() {
+            if !line.starts_with(' ') && !line.trim().is_empty() {
+                in_paths = line.trim_end() == "paths:";
+                continue;
+            }
+            if !in_paths {
+                continue;
+            }
+            if let Some(p) = line.strip_prefix("  ").filter(|l| l.starts_with('/')) {
+                current = Some(
+                    p.trim_end()
+                        .trim_end_matches(':')
+                        .trim_matches('\'')
+                        .trim_matches('"')
+                        .to_string(),
+                );
+            } else if let Some(m) = line.strip_prefix("    ").filter(|l| !l.starts_with(' ')) {
+                let m = m.trim_end().trim_end_matches(':');
+                if ["get", "put", "post", "delete", "patch", "head", "options"].contains(&m) {
+                    ops.insert((
+                        m.to_string(),
+                        current.clone().expect("operation before any path"),
+                    ));
+                }
+            }
+        }
+        ops
+    }
+
+    #[test]
+    fn openapi_documents_exactly_the_routes() {
+        let routes: BTreeSet<(String, String)> = super::table()
+            .iter()
+            .map(|r| (r.method.to_string(), r.path.to_string()))
+            .collect();
+        let spec = spec_operations();
+        let undocumented: Vec<_> = routes.difference(&spec).collect();
+        let phantom: Vec<_> = spec.difference(&routes).collect();
+        assert!(
+            undocumented.is_empty(),
+            "routes missing from openapi.yaml: {undocumented:?}"
+        );
+        assert!(
+            phantom.is_empty(),
+            "openapi.yaml documents routes the router lacks: {phantom:?}"
+        );
+    }
+}

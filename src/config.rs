@@ -1,0 +1,87 @@
+//! Service configuration: every setting is a flag with an environment variable.
+
+use std::net::SocketAddr;
+
+#[derive(clap::Args, Debug, Clone)]
+pub struct Config {
+    /// Address to listen on (port 0 picks a free port; the bound address is printed).
+    #[arg(long, env = "BEARING_SIM_BIND", default_value = "127.0.0.1:8080")]
+    pub bind: SocketAddr,
+
+    /// SQLite database URL; the file and its directory are created if missing.
+    #[arg(
+        long,
+        env = "BEARING_SIM_DATABASE_URL",
+        default_value = "sqlite://data/bearing-sim.db"
+    )]
+    pub database_url: String,
+
+    /// Jobs run at the same time (blocking engine threads); default: available cores.
+    /// 0 runs the API alone (jobs wait for a worker process on the same database).
+    #[arg(long, env = "BEARING_SIM_WORKERS")]
+    pub workers: Option<usize>,
+
+    /// Queued jobs accepted before submissions get 429.
+    #[arg(long, env = "BEARING_SIM_MAX_QUEUED", default_value_t = 1000)]
+    pub max_queued: i64,
+
+    /// Comma-separated origins allowed by CORS (e.g. `http://localhost:3000`); empty: none.
+    #[arg(
+        long,
+        env = "BEARING_SIM_CORS_ORIGINS",
+        value_delimiter = ',',
+        default_value = ""
+    )]
+    pub cors_origins: Vec<String>,
+
+    /// Log format on stderr: `text` or `json`.
+    #[arg(long, env = "BEARING_SIM_LOG_FORMAT", default_value = "text", value_parser = ["text", "json"])]
+    pub log_format: String,
+
+    /// Largest request body, bytes (413 above it).
+    #[arg(long, env = "BEARING_SIM_MAX_BODY_BYTES", default_value_t = 32 * 1024 * 1024)]
+    pub max_body_bytes: usize,
+
+    /// Time limit of an ordinary request, s (long polls with `wait` are exempt).
+    #[arg(long, env = "BEARING_SIM_REQUEST_TIMEOUT", default_value_t = 30.0)]
+    pub request_timeout: f64,
+
+    /// Lease of a running job, s: a job whose worker stops heartbeating is requeued after it.
+    #[arg(long, env = "BEARING_SIM_LEASE_SECS", default_value_t = 10.0)]
+    pub lease_secs: f64,
+
+    /// Claims of one job before a lost lease fails it instead of requeueing it.
+    #[arg(long, env = "BEARING_SIM_MAX_ATTEMPTS", default_value_t = 3)]
+    pub max_attempts: i64,
+
+    /// Analyses of signals up to this many samples are answered directly; longer ones are queued.
+    #[arg(
+        long,
+        env = "BEARING_SIM_SYNC_ANALYSIS_SAMPLES",
+        default_value_t = 262_144
+    )]
+    pub sync_analysis_samples: usize,
+
+    /// Grace period on shutdown for running jobs to stop and be requeued, s.
+    #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
+    pub shutdown_grace: f64,
+}
+
+impl Config {
+    pub fn worker_count(&self) -> usize {
+        self.workers.unwrap_or_else(|| {
+            std::thread::available_parallelism()
+                .map(|n| n.get())
+                .unwrap_or(1)
+        })
+    }
+
+    pub fn lease_ms(&self) -> i64 {
+        (self.lease_secs.max(0.5) * 1000.0) as i64
+    }
+
+    /// Heartbeats at a third of the lease (at most every 400 ms, so progress stays fresh).
+    pub fn heartbeat_interval(&self) -> std::time::Duration {
+        std::time::Duration::from_millis((self.lease_ms() / 3).clamp(50, 400) as u64)
+    }
+}

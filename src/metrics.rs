@@ -1,0 +1,179 @@
+//! In-process metrics rendered as Prometheus text (exposition format 0.0.4).
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+use std::sync::atomic::{AtomicI64, Ordering};
+use std::sync::Mutex;
+
+const HTTP_BUCKETS: &[f64] = &[
+    0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5, 5.0, 10.0,
+];
+const JOB_BUCKETS: &[f64] = &[
+    0.1, 0.25, 0.5, 1.0, 2.5, 5.0, 10.0, 30.0, 60.0, 120.0, 300.0, 600.0,
+];
+
+#[derive(Debug, Clone)]
+struct Histogram {
+    counts: Vec<u64>,
+    sum: f64,
+    count: u64,
+}
+
+impl Histogram {
+    fn new(n: usize) -> Self {
+        Histogram {
+            counts: vec![0; n],
+            sum: 0.0,
+            count: 0,
+        }
+    }
+    fn observe(&mut self, buckets: &[f64], v: f64) {
+        for (i, b) in buckets.iter().enumerate() {
+            if v <= *b {
+                self.counts[i] += 1;
+            }
+        }
+        self.sum += v;
+        self.count += 1;
+    }
+}
+
+#[derive(Default)]
+pub struct Metrics {
+    /// (method, route, status) -> latency histogram.
+    http: Mutex<BTreeMap<(String, String, u16), Histogram>>,
+    /// (kind, final state) -> run-time histogram.
+    jobs: Mutex<BTreeMap<(String, String), Histogram>>,
+    running: AtomicI64,
+    running_max: AtomicI64,
+}
+
+/// Decrements the running gauge when a job ends, whatever the path out.
+pub struct RunningGuard<'a>(&'a Metrics);
+
+impl Drop for RunningGuard<'_> {
+    fn drop(&mut self) {
+        self.0.running.fetch_sub(1, Ordering::SeqCst);
+    }
+}
+
+impl Metrics {
+    pub fn observe_http(&self, method: &str, route: &str, status: u16, seconds: f64) {
+        let mut m = self.http.lock().unwrap_or_else(|e| e.into_inner());
+        m.entry((method.to_string(), route.to_string(), status))
+            .or_insert_with(|| Histogram::new(HTTP_BUCKETS.len()))
+            .observe(HTTP_BUCKETS, seconds);
+    }
+
+    pub fn observe_job(&self, kind: &str, state: &str, seconds: f64) {
+        let mut m = self.jobs.lock().unwrap_or_else(|e| e.into_inner());
+        m.entry((kind.to_string(), state.to_string()))
+            .or_insert_with(|| Histogram::new(JOB_BUCKETS.len()))
+            .observe(JOB_BUCKETS, seconds);
+    }
+
+    /// Count a job as running in this process until the guard drops.
+    pub fn job_started(&self) -> RunningGuard<'_> {
+        let now = self.running.fetch_add(1, Ordering::SeqCst) + 1;
+        self.running_max.fetch_max(now, Ordering::SeqCst);
+        RunningGuard(self)
+    }
+
+    pub fn running(&self) -> i64 {
+        self.running.load(Ordering::SeqCst)
+    }
+
+    /// Render everything; `jobs_by_state` comes from the store at scrape time.
+    pub fn render(&self, jobs_by_state: &[(&str, i64)], workers: usize) -> String {
+        let mut out = String::new();
+        let queued = jobs_by_state
+            .iter()
+            .find(|(s, _)| *s == "queued")
+            .map(|x| x.1)
+            .unwrap_or(0);
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_queue_depth Jobs waiting for a worker."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_queue_depth gauge");
+        let _ = writeln!(out, "bearing_sim_queue_depth {queued}");
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_jobs Jobs in the database by state."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_jobs gauge");
+        for (s, n) in jobs_by_state {
+            let _ = writeln!(out, "bearing_sim_jobs{{state=\"{s}\"}} {n}");
+        }
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_workers Worker threads of this process."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_workers gauge");
+        let _ = writeln!(out, "bearing_sim_workers {workers}");
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_jobs_running Jobs running in this process now."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_jobs_running gauge");
+        let _ = writeln!(out, "bearing_sim_jobs_running {}", self.running());
+        let _ = writeln!(out, "# HELP bearing_sim_jobs_running_max Most jobs running at once in this process since start.");
+        let _ = writeln!(out, "# TYPE bearing_sim_jobs_running_max gauge");
+        let _ = writeln!(
+            out,
+            "bearing_sim_jobs_running_max {}",
+            self.running_max.load(Ordering::SeqCst)
+        );
+
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_job_duration_seconds Run time of jobs by kind and final state."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_job_duration_seconds histogram");
+        for ((kind, state), h) in self.jobs.lock().unwrap_or_else(|e| e.into_inner()).iter() {
+            write_histogram(
+                &mut out,
+                "bearing_sim_job_duration_seconds",
+                &format!("kind=\"{kind}\",state=\"{state}\""),
+                JOB_BUCKETS,
+                h,
+            );
+        }
+        let _ = writeln!(out, "# HELP bearing_sim_http_request_duration_seconds HTTP request latency by route and status.");
+        let _ = writeln!(
+            out,
+            "# TYPE bearing_sim_http_request_duration_seconds histogram"
+        );
+        for ((method, route, status), h) in
+            self.http.lock().unwrap_or_else(|e| e.into_inner()).iter()
+        {
+            let labels = format!(
+                "method=\"{method}\",route=\"{}\",status=\"{status}\"",
+                escape(route)
+            );
+            write_histogram(
+                &mut out,
+                "bearing_sim_http_request_duration_seconds",
+                &labels,
+                HTTP_BUCKETS,
+                h,
+            );
+        }
+        out
+    }
+}
+
+fn escape(s: &str) -> String {
+    s.replace('\\', "\\\\")
+        .replace('"', "\\\"")
+        .replace('\n', "\\n")
+}
+
+fn write_histogram(out: &mut String, name: &str, labels: &str, buckets: &[f64], h: &Histogram) {
+    for (b, c) in buckets.iter().zip(&h.counts) {
+        let _ = writeln!(out, "{name}_bucket{{{labels},le=\"{b}\"}} {c}");
+    }
+    let _ = writeln!(out, "{name}_bucket{{{labels},le=\"+Inf\"}} {}", h.count);
+    let _ = writeln!(out, "{name}_sum{{{labels}}} {}", h.sum);
+    let _ = writeln!(out, "{name}_count{{{labels}}} {}", h.count);
+}

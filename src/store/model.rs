@@ -1,0 +1,226 @@
+//! Rows and values exchanged with a [`super::Store`].
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobState {
+    Queued,
+    Running,
+    Succeeded,
+    Failed,
+    Cancelled,
+}
+
+impl JobState {
+    pub const ALL: [JobState; 5] = [
+        JobState::Queued,
+        JobState::Running,
+        JobState::Succeeded,
+        JobState::Failed,
+        JobState::Cancelled,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JobState::Queued => "queued",
+            JobState::Running => "running",
+            JobState::Succeeded => "succeeded",
+            JobState::Failed => "failed",
+            JobState::Cancelled => "cancelled",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<JobState> {
+        JobState::ALL.into_iter().find(|st| st.as_str() == s)
+    }
+
+    pub fn is_finished(self) -> bool {
+        matches!(
+            self,
+            JobState::Succeeded | JobState::Failed | JobState::Cancelled
+        )
+    }
+}
+
+impl fmt::Display for JobState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum JobKind {
+    Simulation,
+    Analysis,
+}
+
+impl JobKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JobKind::Simulation => "simulation",
+            JobKind::Analysis => "analysis",
+        }
+    }
+    pub fn parse(s: &str) -> Option<JobKind> {
+        match s {
+            "simulation" => Some(JobKind::Simulation),
+            "analysis" => Some(JobKind::Analysis),
+            _ => None,
+        }
+    }
+}
+
+/// Why a job failed or stopped, as stored and shown.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct JobError {
+    /// `invalid`, `numerical`, `panic`, `cancelled`, `lease_expired`, `analysis`.
+    pub kind: String,
+    pub message: String,
+}
+
+/// A job row as handlers see it (inputs and outputs stay in the store).
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub seq: i64,
+    pub id: String,
+    pub kind: JobKind,
+    pub state: JobState,
+    pub label: String,
+    pub progress: f64,
+    pub attempt: i64,
+    pub cancel_requested: bool,
+    pub version: i64,
+    /// Unix milliseconds.
+    pub created_at: i64,
+    pub started_at: Option<i64>,
+    pub finished_at: Option<i64>,
+    pub updated_at: i64,
+    pub error: Option<JobError>,
+    pub stats: Option<serde_json::Value>,
+    pub result: Option<serde_json::Value>,
+}
+
+/// What a submission stores.
+#[derive(Debug, Clone)]
+pub struct NewJob {
+    pub id: String,
+    pub kind: JobKind,
+    pub label: String,
+    pub input: serde_json::Value,
+    pub input_blob: Option<Vec<u8>>,
+    pub idempotency_key: Option<String>,
+    /// Hash of the resolved request, compared on idempotent replays.
+    pub request_hash: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct Created {
+    pub job: Job,
+    /// False when an idempotent replay returned an existing job.
+    pub created: bool,
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct ListFilter {
+    pub kind: Option<JobKind>,
+    pub state: Option<JobState>,
+    /// Only jobs with `seq` below this (the cursor).
+    pub before: Option<i64>,
+    pub limit: i64,
+}
+
+#[derive(Debug, Clone)]
+pub struct Page {
+    pub jobs: Vec<Job>,
+    /// Cursor for the next (older) page, if there is one.
+    pub next: Option<i64>,
+}
+
+/// Proof of a claim: every write by a worker is fenced on (id, owner, attempt).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Lease {
+    pub id: String,
+    pub owner: String,
+    pub attempt: i64,
+}
+
+/// A job taken from the queue with what the worker needs to run it.
+#[derive(Debug, Clone)]
+pub struct Claimed {
+    pub lease: Lease,
+    pub kind: JobKind,
+    pub input: serde_json::Value,
+    pub input_blob: Option<Vec<u8>>,
+    pub cancel_requested: bool,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Heartbeat {
+    pub cancel_requested: bool,
+}
+
+/// A stored output: JSON metadata plus a binary body.
+#[derive(Debug, Clone)]
+pub struct Artifact {
+    pub name: String,
+    pub meta: serde_json::Value,
+    pub data: Vec<u8>,
+}
+
+/// How a claimed job ended.
+#[derive(Debug, Clone)]
+pub enum Outcome {
+    Succeeded {
+        result: serde_json::Value,
+        stats: Option<serde_json::Value>,
+        artifacts: Vec<Artifact>,
+    },
+    Failed {
+        error: JobError,
+        stats: Option<serde_json::Value>,
+    },
+    Cancelled {
+        error: JobError,
+    },
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct StateCounts {
+    pub queued: i64,
+    pub running: i64,
+    pub succeeded: i64,
+    pub failed: i64,
+    pub cancelled: i64,
+}
+
+impl StateCounts {
+    pub fn get(&self, s: JobState) -> i64 {
+        match s {
+            JobState::Queued => self.queued,
+            JobState::Running => self.running,
+            JobState::Succeeded => self.succeeded,
+            JobState::Failed => self.failed,
+            JobState::Cancelled => self.cancelled,
+        }
+    }
+    pub fn set(&mut self, s: JobState, n: i64) {
+        match s {
+            JobState::Queued => self.queued = n,
+            JobState::Running => self.running = n,
+            JobState::Succeeded => self.succeeded = n,
+            JobState::Failed => self.failed = n,
+            JobState::Cancelled => self.cancelled = n,
+        }
+    }
+}
+
+/// Milliseconds since the Unix epoch.
+pub fn now_ms() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_millis() as i64)
+        .unwrap_or(0)
+}

@@ -1,0 +1,591 @@
+//! HTTP API behaviour against the real server binary.
+
+mod common;
+
+use common::*;
+use serde_json::{json, Value};
+use std::time::Duration;
+
+#[tokio::test]
+async fn every_bad_input_gets_its_status_and_a_problem() {
+    let (_dir, db) = temp_db();
+    // No workers: jobs stay queued, so state conflicts are deterministic.
+    let s = Server::start(&db, &["--workers", "0", "--max-body-bytes", "65536"]);
+    let c = client();
+    let sims = s.url("/v1/simulations");
+
+    // 400: not JSON
+    let r = c
+        .post(&sims)
+        .header("content-type", "application/json")
+        .body("{nope")
+        .send()
+        .await
+        .unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 400);
+
+    // 415: no JSON content type
+    let r = c.post(&sims).body("{}").send().await.unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 415);
+
+    // 422: unknown scene member, with its path
+    let mut scene = get_json(&c, &s.url("/v1/presets/h7005c")).await.2["scene"].clone();
+    scene["bearing"]["colour"] = json!("red");
+    let (st, h, body) = post_json(&c, &sims, &json!({ "scene": scene })).await;
+    assert_problem(st, &h, &body, 422);
+    assert_eq!(body["errors"][0]["path"], "scene.bearing.colour", "{body}");
+
+    // 422: a wrong type names its path
+    let (st, h, body) = post_json(&c, &sims, &json!({"preset": "h7005c", "overrides": {"faults": [{"ring": "inner", "angle": 0, "width": "wide", "depth": 1e-4}]}})).await;
+    assert_problem(st, &h, &body, 422);
+    assert_eq!(body["errors"][0]["path"], "scene.faults[0].width", "{body}");
+
+    // 422: every field problem at once
+    let (st, h, body) = post_json(&c, &sims, &json!({"preset": "h7005c", "overrides": {"bearing": {"ball_diameter": -1.0}, "solver": {"duration": 0}}})).await;
+    assert_problem(st, &h, &body, 422);
+    let paths: Vec<&str> = body["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["path"].as_str().unwrap())
+        .collect();
+    assert!(
+        paths.contains(&"scene.bearing.ball_diameter") && paths.contains(&"scene.solver.duration"),
+        "{body}"
+    );
+
+    // 422: request-level problems, all listed
+    let (st, h, body) = post_json(
+        &c,
+        &sims,
+        &json!({"preset": "h9999", "fault_case": "sideways", "extra": 1}),
+    )
+    .await;
+    assert_problem(st, &h, &body, 422);
+    let paths: Vec<&str> = body["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["path"].as_str().unwrap())
+        .collect();
+    for p in ["preset", "fault_case", "extra"] {
+        assert!(paths.contains(&p), "{p} missing: {body}");
+    }
+    let (st, h, body) = post_json(&c, &sims, &json!([1, 2])).await;
+    assert_problem(st, &h, &body, 422);
+
+    // 413: body over the limit
+    let big = json!({"preset": "h7005c", "overrides": {"name": "x".repeat(100_000)}});
+    let (st, h, body) = post_json(&c, &sims, &big).await;
+    assert_problem(st, &h, &body, 413);
+
+    // 404: unknown id and unknown route; 405: wrong method
+    let (st, h, body) = get_json(&c, &s.url("/v1/simulations/does-not-exist")).await;
+    assert_problem(st, &h, &body, 404);
+    let (st, h, body) = get_json(&c, &s.url("/v1/nothing-here")).await;
+    assert_problem(st, &h, &body, 404);
+    let r = c.put(&sims).send().await.unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 405);
+
+    // 400: bad query parameters
+    for q in ["?state=bogus", "?limit=0", "?limit=x", "?cursor=abc"] {
+        let (st, h, body) = get_json(&c, &format!("{sims}{q}")).await;
+        assert_problem(st, &h, &body, 400);
+    }
+
+    // 409: invalid transitions on a queued job
+    let id = submit(&c, &s, &short_scene(0.01)).await;
+    for path in ["result", "spectra"] {
+        let (st, h, body) = get_json(&c, &s.url(&format!("/v1/simulations/{id}/{path}"))).await;
+        assert_problem(st, &h, &body, 409);
+        assert_eq!(body["job_state"], "queued");
+    }
+    let (st, h, body) = get_json(
+        &c,
+        &s.url(&format!(
+            "/v1/simulations/{id}/signals?channel=outer_ring_accel_z"
+        )),
+    )
+    .await;
+    assert_problem(st, &h, &body, 409);
+    let r = c
+        .delete(s.url(&format!("/v1/simulations/{id}")))
+        .send()
+        .await
+        .unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 409);
+    // 400: signals without a channel
+    let (st, h, body) = get_json(&c, &s.url(&format!("/v1/simulations/{id}/signals"))).await;
+    assert_problem(st, &h, &body, 400);
+    // cancelling twice: the second is a 409
+    let r = c
+        .post(s.url(&format!("/v1/simulations/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202);
+    let r = c
+        .post(s.url(&format!("/v1/simulations/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 409);
+
+    // Idempotency-Key: replay -> 200 same job; other body -> 422
+    let send = |body: Value| {
+        let c = c.clone();
+        let url = sims.clone();
+        async move {
+            let r = c
+                .post(url)
+                .header("Idempotency-Key", "key-1")
+                .json(&body)
+                .send()
+                .await
+                .unwrap();
+            (r.status().as_u16(), r.json::<Value>().await.unwrap())
+        }
+    };
+    let (st1, j1) = send(short_scene(0.01)).await;
+    let (st2, j2) = send(short_scene(0.01)).await;
+    assert_eq!((st1, st2), (202, 200));
+    assert_eq!(j1["id"], j2["id"]);
+    let (st3, j3) = send(short_scene(0.02)).await;
+    assert_eq!(st3, 422, "{j3}");
+    assert_eq!(j3["type"], "urn:bearing-sim:problem:idempotency-key-reused");
+
+    // analyses: wrong media type, bad geometry, missing shaft speed
+    let r = c
+        .post(s.url("/v1/analyses"))
+        .header("content-type", "text/csv")
+        .body("1,2,3")
+        .send()
+        .await
+        .unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 415);
+    let samples: Vec<f64> = (0..64).map(|i| (i as f64).sin()).collect();
+    let (st, h, body) = post_json(&c, &s.url("/v1/analyses"), &json!({"samples": samples, "sample_rate": 1000.0, "geometry": {"ball_count": 9, "ball_diameter": -1.0, "pitch_diameter": 0.04, "contact_angle": 0.0}, "shaft_hz": 10.0})).await;
+    assert_problem(st, &h, &body, 422);
+    assert_eq!(
+        body["errors"][0]["path"], "geometry.ball_diameter",
+        "{body}"
+    );
+    let (st, h, body) = post_json(
+        &c,
+        &s.url("/v1/analyses"),
+        &json!({"samples": samples, "sample_rate": 1000.0, "preset": "cwru6205"}),
+    )
+    .await;
+    assert_problem(st, &h, &body, 422);
+    let r = c
+        .post(s.url("/v1/analyses?sample_rate=1000&preset=cwru6205&shaft_hz=20"))
+        .header("content-type", "application/octet-stream")
+        .body(vec![0u8; 7])
+        .send()
+        .await
+        .unwrap();
+    let (st, h) = (r.status().as_u16(), r.headers().clone());
+    assert_problem(st, &h, &r.json().await.unwrap(), 422);
+
+    // quasi-static: validation uses the same paths
+    let (st, h, body) = post_json(
+        &c,
+        &s.url("/v1/quasi-static"),
+        &json!({"preset": "h7005c", "shaft_rpm": -5}),
+    )
+    .await;
+    assert_problem(st, &h, &body, 422);
+    assert_eq!(body["errors"][0]["path"], "shaft_rpm");
+}
+
+#[tokio::test]
+async fn full_queue_answers_429_with_retry_after() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "0", "--max-queued", "3"]);
+    let c = client();
+    for _ in 0..3 {
+        submit(&c, &s, &short_scene(0.01)).await;
+    }
+    let (st, h, body) = post_json(&c, &s.url("/v1/simulations"), &short_scene(0.01)).await;
+    assert_problem(st, &h, &body, 429);
+    let retry: u64 = h
+        .get("retry-after")
+        .expect("Retry-After")
+        .to_str()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(retry >= 1);
+    // the queue depth is visible in the metrics
+    let m = c
+        .get(s.url("/metrics"))
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
+    assert!(m.contains("bearing_sim_queue_depth 3"), "{m}");
+}
+
+#[tokio::test]
+async fn queued_job_cancels_at_once_and_polling_is_cheap() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "0"]);
+    let c = client();
+    let id = submit(&c, &s, &short_scene(0.01)).await;
+    let url = s.url(&format!("/v1/simulations/{id}"));
+
+    // ETag + If-None-Match -> 304 without a body
+    let r = c.get(&url).send().await.unwrap();
+    let etag = r
+        .headers()
+        .get("etag")
+        .unwrap()
+        .to_str()
+        .unwrap()
+        .to_string();
+    let r = c
+        .get(&url)
+        .header("if-none-match", &etag)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 304);
+    assert!(r.bytes().await.unwrap().is_empty());
+
+    let (st, _, job) = post_json(
+        &c,
+        &s.url(&format!("/v1/simulations/{id}/cancel")),
+        &json!({}),
+    )
+    .await;
+    assert_eq!(st, 202);
+    assert_eq!(job["state"], "cancelled", "{job}");
+    // the change shows: the old ETag no longer matches
+    let r = c
+        .get(&url)
+        .header("if-none-match", &etag)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    // a finished job can be deleted, then it is gone
+    let r = c.delete(&url).send().await.unwrap();
+    assert_eq!(r.status(), 204);
+    let (st, _, _) = get_json(&c, &url).await;
+    assert_eq!(st, 404);
+}
+
+#[tokio::test]
+async fn listing_filters_by_state_and_pages_with_a_cursor() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "0"]);
+    let c = client();
+    let mut ids = vec![];
+    for _ in 0..5 {
+        ids.push(submit(&c, &s, &short_scene(0.01)).await);
+    }
+    c.post(s.url(&format!("/v1/simulations/{}/cancel", ids[0])))
+        .send()
+        .await
+        .unwrap();
+
+    let mut seen = vec![];
+    let mut url = s.url("/v1/simulations?limit=2");
+    loop {
+        let (st, _, page) = get_json(&c, &url).await;
+        assert_eq!(st, 200, "{page}");
+        for j in page["items"].as_array().unwrap() {
+            seen.push(j["id"].as_str().unwrap().to_string());
+        }
+        match page["next_cursor"].as_str() {
+            Some(cur) => url = s.url(&format!("/v1/simulations?limit=2&cursor={cur}")),
+            None => break,
+        }
+    }
+    let mut want = ids.clone();
+    want.reverse(); // newest first
+    assert_eq!(seen, want);
+
+    let (_, _, page) = get_json(&c, &s.url("/v1/simulations?state=cancelled")).await;
+    let items = page["items"].as_array().unwrap();
+    assert_eq!(items.len(), 1);
+    assert_eq!(items[0]["id"], ids[0].as_str());
+    let (_, _, page) = get_json(&c, &s.url("/v1/simulations?state=queued")).await;
+    assert_eq!(page["items"].as_array().unwrap().len(), 4);
+}
+
+#[tokio::test]
+async fn presets_and_operational_endpoints() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(
+        &db,
+        &["--workers", "1", "--cors-origins", "http://lab.example"],
+    );
+    let c = client();
+    let (st, _, list) = get_json(&c, &s.url("/v1/presets")).await;
+    assert_eq!(st, 200);
+    let names: Vec<&str> = list["items"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"h7005c") && names.contains(&"cwru6205"),
+        "{list}"
+    );
+    let (st, _, p) = get_json(&c, &s.url("/v1/presets/h7005c")).await;
+    assert_eq!(st, 200);
+    assert_eq!(p["scene"]["bearing"]["ball_count"], 16);
+    assert_eq!(p["table2_groups"].as_array().unwrap().len(), 9);
+    assert_eq!(
+        p["fault_case_faults"]["compound"]["faults"]
+            .as_array()
+            .unwrap()
+            .len(),
+        2
+    );
+    let (st, _, p) = get_json(&c, &s.url("/v1/presets/cwru6205")).await;
+    assert_eq!(st, 200);
+    assert_eq!(p["kinematics"]["ball_count"], 9);
+    assert_eq!(get_json(&c, &s.url("/v1/presets/nope")).await.0, 404);
+
+    assert_eq!(get_json(&c, &s.url("/healthz")).await.0, 200);
+    assert_eq!(get_json(&c, &s.url("/readyz")).await.0, 200);
+    let m = c
+        .get(s.url("/metrics"))
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
+    for name in [
+        "bearing_sim_queue_depth",
+        "bearing_sim_jobs{state=\"queued\"}",
+        "bearing_sim_http_request_duration_seconds_bucket",
+    ] {
+        assert!(m.contains(name), "{name} missing:\n{m}");
+    }
+    let spec = c
+        .get(s.url("/openapi.yaml"))
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
+    assert!(spec.starts_with("openapi: 3.1"));
+
+    // CORS: the configured origin may read Location, ETag and Retry-After
+    let r = c
+        .request(reqwest::Method::OPTIONS, s.url("/v1/simulations"))
+        .header("origin", "http://lab.example")
+        .header("access-control-request-method", "POST")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(
+        r.headers().get("access-control-allow-origin").unwrap(),
+        "http://lab.example"
+    );
+    let r = c
+        .get(s.url("/v1/simulations"))
+        .header("origin", "http://lab.example")
+        .send()
+        .await
+        .unwrap();
+    let exposed = r
+        .headers()
+        .get("access-control-expose-headers")
+        .unwrap()
+        .to_str()
+        .unwrap()
+        .to_ascii_lowercase();
+    for h in ["location", "etag", "retry-after"] {
+        assert!(exposed.contains(h), "{exposed}");
+    }
+    let r = c
+        .get(s.url("/v1/simulations"))
+        .header("origin", "http://evil.example")
+        .send()
+        .await
+        .unwrap();
+    assert!(r.headers().get("access-control-allow-origin").is_none());
+}
+
+/// A synthetic outer-race fault: impulses at BPFO exciting a decaying 3 kHz resonance.
+fn synthetic_outer_fault(fs: f64, seconds: f64, bpfo: f64) -> Vec<f64> {
+    let n = (fs * seconds) as usize;
+    let mut x = vec![0.0; n];
+    let mut t_hit = 0.0;
+    while t_hit < seconds {
+        let k0 = (t_hit * fs) as usize;
+        let end = (k0 + (0.004 * fs) as usize).min(n);
+        for (j, v) in x[k0.min(end)..end].iter_mut().enumerate() {
+            let t = j as f64 / fs;
+            *v += (-t * 800.0).exp() * (2.0 * std::f64::consts::PI * 3000.0 * t).sin();
+        }
+        t_hit += 1.0 / bpfo;
+    }
+    // a little deterministic noise
+    let mut seed = 12345u64;
+    for v in x.iter_mut() {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        *v += 0.05 * (((seed >> 33) as f64 / (1u64 << 31) as f64) - 0.5);
+    }
+    x
+}
+
+#[tokio::test]
+async fn analyses_run_directly_or_as_queued_jobs() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "1"]);
+    let c = client();
+    let fs = 12_000.0;
+    let shaft_hz = 1797.0 / 60.0;
+    let bpfo = 3.5848 * shaft_hz; // CWRU 6205 BPFO per shaft revolution
+    let x = synthetic_outer_fault(fs, 1.0, bpfo);
+
+    // JSON, small: answered directly
+    let req = json!({"samples": x, "sample_rate": fs, "preset": "cwru6205", "shaft_rpm": 1797.0});
+    let (st, _, body) = post_json(&c, &s.url("/v1/analyses"), &req).await;
+    assert_eq!(st, 200, "{body}");
+    let theory_bpfo = body["analysis"]["theory"]["bpfo"].as_f64().unwrap();
+    assert!(
+        (theory_bpfo - bpfo).abs() / bpfo < 0.01,
+        "{theory_bpfo} vs {bpfo}"
+    );
+    assert!(
+        body["spectra"]["raw"]["amplitude"]
+            .as_array()
+            .unwrap()
+            .len()
+            > 100
+    );
+
+    // raw f32 body, queued on request
+    let raw: Vec<u8> = x.iter().flat_map(|v| (*v as f32).to_le_bytes()).collect();
+    let r = c
+        .post(s.url("/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797"))
+        .header("content-type", "application/octet-stream")
+        .body(raw)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202);
+    let loc = r
+        .headers()
+        .get("location")
+        .unwrap()
+        .to_str()
+        .unwrap()
+        .to_string();
+    assert!(loc.starts_with("/v1/analyses/"));
+    let mut job = Value::Null;
+    for _ in 0..600 {
+        job = get_json(&c, &s.url(&loc)).await.2;
+        if job["state"] != "queued" && job["state"] != "running" {
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert_eq!(job["state"], "succeeded", "{job}\n{}", s.log());
+    let (st, _, result) = get_json(&c, &s.url(&format!("{loc}/result"))).await;
+    assert_eq!(st, 200);
+    assert!(
+        result["analysis"]["level_kurtosis"]
+            .as_array()
+            .unwrap()
+            .len()
+            >= 3,
+        "{result}"
+    );
+    let (st, _, spec) = get_json(
+        &c,
+        &s.url(&format!("{loc}/spectra?kind=best_component&fmax=500")),
+    )
+    .await;
+    assert_eq!(st, 200, "{spec}");
+    assert!(spec["fmax"].as_f64().unwrap() <= 500.0);
+    assert!(
+        spec["markers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|m| m["name"] == "bpfo"),
+        "{spec}"
+    );
+    // the analysis id is not a simulation id
+    assert_eq!(
+        get_json(
+            &c,
+            &s.url(&format!("/v1/simulations/{}", job["id"].as_str().unwrap()))
+        )
+        .await
+        .0,
+        404
+    );
+}
+
+#[tokio::test]
+async fn long_poll_holds_an_unchanged_job_until_it_changes() {
+    let (_dir, db) = temp_db();
+    let s = Server::start(&db, &["--workers", "0", "--request-timeout", "1"]);
+    let c = client();
+    let id = submit(&c, &s, &short_scene(0.01)).await;
+    let url = s.url(&format!("/v1/simulations/{id}"));
+    let etag = c.get(&url).send().await.unwrap().headers()["etag"]
+        .to_str()
+        .unwrap()
+        .to_string();
+
+    // Unchanged: held for `wait` (longer than the 1 s request timeout, which does not apply), then 304.
+    let t = std::time::Instant::now();
+    let r = c
+        .get(format!("{url}?wait=1.5"))
+        .header("if-none-match", &etag)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 304);
+    assert!(
+        t.elapsed() >= Duration::from_millis(1400),
+        "{:?}",
+        t.elapsed()
+    );
+
+    // A change during the wait answers at once with the new state.
+    let poll = {
+        let (c, url, etag) = (c.clone(), url.clone(), etag.clone());
+        tokio::spawn(async move {
+            c.get(format!("{url}?wait=30"))
+                .header("if-none-match", etag)
+                .send()
+                .await
+                .unwrap()
+        })
+    };
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    c.post(s.url(&format!("/v1/simulations/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
+    let r = poll.await.unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.json::<Value>().await.unwrap()["state"], "cancelled");
+
+    // wait out of range is a 400
+    let (st, h, body) = get_json(&c, &format!("{url}?wait=61")).await;
+    assert_problem(st, &h, &body, 400);
+}

@@ -1,0 +1,188 @@
+//! Helpers for the service tests: run the real `bearing-sim serve` binary on a random
+//! port with a temporary database and talk to it over HTTP.
+
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+pub struct Server {
+    child: Child,
+    pub base: String,
+    pub log: PathBuf,
+}
+
+impl Server {
+    /// Start on `db` (a file path) with extra flags; returns once it listens.
+    pub fn start(db: &Path, args: &[&str]) -> Server {
+        let log = db.with_extension(format!(
+            "log{}",
+            std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .unwrap()
+                .as_nanos()
+        ));
+        let log_file = std::fs::File::create(&log).unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+            .arg("serve")
+            .args(["--bind", "127.0.0.1:0", "--database-url"])
+            .arg(format!("sqlite://{}", db.display()))
+            .args(args)
+            .env_remove("BEARING_SIM_BIND")
+            .env_remove("BEARING_SIM_DATABASE_URL")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::from(log_file))
+            .spawn()
+            .expect("spawn bearing-sim serve");
+        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+        let base = loop {
+            match lines.next() {
+                Some(Ok(line)) => {
+                    if let Some(url) = line.strip_prefix("listening on ") {
+                        break url.trim().to_string();
+                    }
+                }
+                _ => panic!(
+                    "server exited before listening; log:\n{}",
+                    std::fs::read_to_string(&log).unwrap_or_default()
+                ),
+            }
+        };
+        // Keep draining stdout so the child never blocks on a full pipe.
+        std::thread::spawn(move || for _ in lines {});
+        Server { child, base, log }
+    }
+
+    pub fn url(&self, path: &str) -> String {
+        format!("{}{}", self.base, path)
+    }
+
+    /// SIGKILL: no shutdown code runs, as in a crash.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    /// SIGTERM and wait for the process to exit.
+    pub fn terminate(&mut self) -> std::process::ExitStatus {
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
+        self.child.wait().unwrap()
+    }
+
+    pub fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+pub fn client() -> reqwest::Client {
+    reqwest::Client::builder()
+        .timeout(Duration::from_secs(60))
+        .build()
+        .unwrap()
+}
+
+/// A short simulation request: the H7005C compound-fault preset, `duration` s.
+pub fn short_scene(duration: f64) -> Value {
+    json!({"preset": "h7005c", "fault_case": "compound", "overrides": {"solver": {"duration": duration}}})
+}
+
+/// A short run that reaches steady speed (5 ms ramp), so the summary's averages exist.
+pub fn steady_scene(duration: f64) -> Value {
+    json!({"preset": "h7005c", "fault_case": "compound",
+           "overrides": {"operating": {"speed": {"ramp_time": 0.005}}, "solver": {"duration": duration}}})
+}
+
+pub async fn post_json(
+    c: &reqwest::Client,
+    url: &str,
+    body: &Value,
+) -> (u16, reqwest::header::HeaderMap, Value) {
+    let r = c.post(url).json(body).send().await.unwrap();
+    let status = r.status().as_u16();
+    let headers = r.headers().clone();
+    let text = r.text().await.unwrap();
+    (
+        status,
+        headers,
+        serde_json::from_str(&text).unwrap_or(Value::String(text)),
+    )
+}
+
+pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
+    let r = c.get(url).send().await.unwrap();
+    let status = r.status().as_u16();
+    let headers = r.headers().clone();
+    let text = r.text().await.unwrap();
+    (
+        status,
+        headers,
+        serde_json::from_str(&text).unwrap_or(Value::String(text)),
+    )
+}
+
+pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
+    let (status, _, job) = post_json(c, &s.url("/v1/simulations"), body).await;
+    assert_eq!(status, 202, "submit: {job}");
+    job["id"].as_str().unwrap().to_string()
+}
+
+/// Poll a job until `pred` holds, panicking with the last state after `timeout`.
+pub async fn wait_until(
+    c: &reqwest::Client,
+    s: &Server,
+    id: &str,
+    timeout: Duration,
+    pred: impl Fn(&Value) -> bool,
+) -> Value {
+    let start = Instant::now();
+    loop {
+        let (status, _, job) = get_json(c, &s.url(&format!("/v1/simulations/{id}"))).await;
+        assert_eq!(status, 200, "{job}");
+        if pred(&job) {
+            return job;
+        }
+        if start.elapsed() > timeout {
+            panic!("job {id} did not reach the expected state within {timeout:?}: {job}\nserver log:\n{}", s.log());
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+pub async fn wait_finished(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration) -> Value {
+    wait_until(c, s, id, timeout, |j| {
+        matches!(
+            j["state"].as_str(),
+            Some("succeeded" | "failed" | "cancelled")
+        )
+    })
+    .await
+}
+
+/// Every problem response has the RFC 9457 members and content type.
+pub fn assert_problem(status: u16, headers: &reqwest::header::HeaderMap, body: &Value, want: u16) {
+    assert_eq!(status, want, "{body}");
+    assert_eq!(
+        headers.get("content-type").unwrap(),
+        "application/problem+json",
+        "{body}"
+    );
+    assert_eq!(body["status"].as_u64(), Some(want as u64), "{body}");
+    for k in ["type", "title", "detail"] {
+        assert!(body[k].is_string(), "problem lacks {k}: {body}");
+    }
+}
+
+pub fn temp_db() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("jobs.db");
+    (dir, db)
+}

@@ -1,0 +1,42 @@
+//! Crash safety: a server killed mid-run (SIGKILL) loses nothing; after a restart on
+//! the same database the job's expired lease requeues it and it completes.
+
+mod common;
+
+use common::*;
+use std::time::Duration;
+
+#[tokio::test]
+async fn sigkill_mid_run_then_restart_completes_the_job() {
+    let (_dir, db) = temp_db();
+    let args = ["--workers", "1", "--lease-secs", "1"];
+    let mut s = Server::start(&db, &args);
+    let c = client();
+    let id = submit(&c, &s, &short_scene(0.1)).await;
+    let queued_too = submit(&c, &s, &short_scene(0.005)).await;
+    wait_until(&c, &s, &id, Duration::from_secs(60), |j| {
+        j["state"] == "running" && j["progress"].as_f64().unwrap_or(0.0) > 0.0
+    })
+    .await;
+    s.kill();
+
+    let s = Server::start(&db, &args);
+    for job_id in [&id, &queued_too] {
+        let job = wait_finished(&c, &s, job_id, Duration::from_secs(300)).await;
+        assert_eq!(job["state"], "succeeded", "{job}\n{}", s.log());
+    }
+    let (_, _, job) = get_json(&c, &s.url(&format!("/v1/simulations/{id}"))).await;
+    assert_eq!(
+        job["attempt"], 2,
+        "claimed once before the crash and once after: {job}"
+    );
+    assert_eq!(
+        get_json(&c, &s.url(&format!("/v1/simulations/{id}/result")))
+            .await
+            .0,
+        200
+    );
+    // nothing lost, nothing duplicated
+    let (_, _, page) = get_json(&c, &s.url("/v1/simulations")).await;
+    assert_eq!(page["items"].as_array().unwrap().len(), 2, "{page}");
+}
