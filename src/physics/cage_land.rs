@@ -1,18 +1,19 @@
 //! Cage-land interaction (eqs. 23-28).
 //!
-//! Above the critical film the guiding land is a short journal bearing: with
-//! eccentricity ratio `e`, sum surface speed `U = (w_cage + w_ring) R` (eq. 27), width `L`
-//! and radial clearance `c`, the radial force is `eta U L^3 e^2 / (c^2 (1 - e^2)^2)` and
-//! the tangential force `pi eta U L^3 e^2 / (4 c^2 (1 - e^2)^1.5)`, both as printed in
-//! eq. 26. (Ocvirk's rigid short-bearing solution has `e` instead of `e^2` in the
-//! tangential force; with it the nearly unloaded H7005C cage whirls at e ~ 0.7 and rattles
-//! its balls to 12 g RMS on a healthy bearing, which the paper's model, and a grease-
-//! lubricated, starved land, do not show. See docs/model.md.) Added: the radial squeeze
-//! force `pi eta R L^3 (1 + 2 e^2) de/dt / (2 c^2 (1 - e^2)^2.5)` and the viscous drag
-//! torque `2 pi eta R^3 L (w_cage - w_ring) / (c sqrt(1 - e^2))` (Petroff, eccentric).
+//! Above the critical film the guiding land is a short journal bearing (half-Sommerfeld
+//! film), in its dynamic form: with eccentricity ratio `e`, whirl speed `phi'` of the cage
+//! centre about the land centre, entraining speed `U = (w_cage + w_ring - 2 phi') R`
+//! (eq. 27 with the whirl correction), width `L` and radial clearance `c`:
+//! radial `eta U L^3 e^2 / (c^2 (1 - e^2)^2) + pi eta R L^3 (1 + 2 e^2) e' / (2 c^2 (1 - e^2)^2.5)`
+//! (the second term is the squeeze film), tangential
+//! `pi eta U L^3 e / (4 c^2 (1 - e^2)^1.5) + 2 eta R L^3 e e' / (c^2 (1 - e^2)^2)`, and the
+//! viscous drag torque `2 pi eta R^3 L (w_cage - w_ring) / (c sqrt(1 - e^2))` (Petroff,
+//! eccentric). For a cage that does not whirl these are eq. 26's forces (with Ocvirk's `e`
+//! in the tangential term where the paper prints `e^2`); the whirl correction is what
+//! keeps a nearly unloaded cage from whirling without bound (see docs/model.md).
 //! Below the critical film the cage touches the land: a line contact of stiffness
-//! `(pi / 4) E' L` with Coulomb friction. The film formulas are evaluated at most at the
-//! critical eccentricity, so forces stay bounded and continuous.
+//! `(pi / 4) E' L` with damping and Coulomb friction. The film formulas are evaluated at
+//! most at the critical eccentricity, so forces stay bounded and continuous.
 
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -70,11 +71,13 @@ pub fn land_force(
     if e > 1e-15 {
         let eh_hat = Vector3::new(0.0, rel_pos.y / e, rel_pos.z / e);
         let t_hat = Vector3::x().cross(&eh_hat);
-        let u = (cage_spin + ring_spin) * r;
+        // whirl: angular speed of the cage centre about the land centre
+        let whirl = t_hat.dot(rel_vel) / e;
+        let u = (cage_spin + ring_spin - 2.0 * whirl) * r;
         let k0 = eta * l * l * l / (c * c);
-        let w_r = k0 * u.abs() * eh * eh / (one * one);
-        let w_t = 0.25 * PI * k0 * u * eh * eh / one.powf(1.5);
         let de = eh_hat.dot(rel_vel) / c;
+        let w_r = k0 * u * eh * eh / (one * one);
+        let w_t = 0.25 * PI * k0 * u * eh / one.powf(1.5) + 2.0 * k0 * r * eh * de / (one * one);
         let w_sq = 0.5 * PI * k0 * r * (1.0 + 2.0 * eh * eh) * de / one.powf(2.5);
         force += -(w_r + w_sq) * eh_hat + w_t * t_hat;
         let pen = e - c * eps_crit;
