@@ -157,8 +157,8 @@ fn tighter_tolerance_changes_little() {
 #[test]
 fn tighter_tolerance_keeps_healthy_cage_speed() {
     // Healthy bearing: the mean cage speed converges like the faulted one. (Its band RMS,
-    // ~1.5 m/s^2 of lightly loaded balls rattling in their pockets, is sensitive to the
-    // trajectory and scatters by 2-4 % between tolerances; see docs/benchmarks.md.)
+    // ~2 m/s^2 mostly from lightly loaded balls rattling in their pockets, is sensitive to
+    // the trajectory and scatters by 0.6-4 % between tolerances; see docs/benchmarks.md.)
     let a = run(&constant_speed(0.2, 1e-6));
     let b = run(&constant_speed(0.2, 1e-7));
     let dc =
