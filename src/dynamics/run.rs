@@ -198,7 +198,9 @@ pub fn integrate(
     // cage and the pedestal dies out within ~40 ms for the H7005C at 10000 rpm).
     let ramp = m.speed.2;
     let settle = (0.25 * (tend - ramp)).min(0.1);
-    let w0 = (ramp + settle).min(tend);
+    // A run that ends before the speed settles averages over its second half instead of
+    // reporting an empty window.
+    let w0 = if ramp + settle < tend { ramp + settle } else { 0.5 * tend };
     let mut acc = Averages::new(m.z);
 
     let (scale, phase) = scales(m);
