@@ -200,7 +200,11 @@ pub fn integrate(
     let settle = (0.25 * (tend - ramp)).min(0.1);
     // A run that ends before the speed settles averages over its second half instead of
     // reporting an empty window.
-    let w0 = if ramp + settle < tend { ramp + settle } else { 0.5 * tend };
+    let w0 = if ramp + settle < tend {
+        ramp + settle
+    } else {
+        0.5 * tend
+    };
     let mut acc = Averages::new(m.z);
 
     let (scale, phase) = scales(m);
@@ -444,33 +448,24 @@ impl Recorder {
 /// Time-weighted sums over the steady window.
 struct Averages {
     time: f64,
-    /// Per azimuth bin (centred on the ball positions at t = 0): the same sums.
-    zone: ZoneSums,
     shaft: f64,
     cage: f64,
     reaction: [f64; 3],
-    load_i: Vec<f64>,
-    load_o: Vec<f64>,
-    ang_i: Vec<f64>,
-    ang_o: Vec<f64>,
-    t_i: Vec<f64>,
-    t_o: Vec<f64>,
+    /// Per ball (each ball orbits through the whole bearing).
+    balls: ContactSums,
+    /// Per azimuth bin (centred on the ball positions at t = 0).
+    zone: ContactSums,
 }
 
 impl Averages {
     fn new(z: usize) -> Self {
         Averages {
-            zone: ZoneSums::new(z),
             time: 0.0,
             shaft: 0.0,
             cage: 0.0,
             reaction: [0.0; 3],
-            load_i: vec![0.0; z],
-            load_o: vec![0.0; z],
-            ang_i: vec![0.0; z],
-            ang_o: vec![0.0; z],
-            t_i: vec![0.0; z],
-            t_o: vec![0.0; z],
+            balls: ContactSums::new(z),
+            zone: ContactSums::new(z),
         }
     }
     fn add(&mut self, m: &Model, t: f64, w: f64, y: &[f64], d: &Diagnostics) {
@@ -483,46 +478,21 @@ impl Averages {
         for j in 0..m.z {
             let th = y[m.layout.ball(j) + 2];
             let k = ((th.rem_euclid(TAU) * m.z as f64 / TAU).round() as usize) % m.z;
-            self.zone.add(
-                k,
-                w,
+            let c = (
                 d.inner_load[j],
                 d.outer_load[j],
                 d.inner_alpha[j],
                 d.outer_alpha[j],
             );
-            self.load_i[j] += w * d.inner_load[j];
-            self.load_o[j] += w * d.outer_load[j];
-            if d.inner_load[j] > 0.0 {
-                self.ang_i[j] += w * d.inner_alpha[j];
-                self.t_i[j] += w;
-            }
-            if d.outer_load[j] > 0.0 {
-                self.ang_o[j] += w * d.outer_alpha[j];
-                self.t_o[j] += w;
-            }
+            self.zone.add(k, w, c);
+            self.balls.add(j, w, c);
         }
     }
     fn finish(self, m: &Model, window: [f64; 2], stats: SolverStats) -> Summary {
         let tt = self.time.max(f64::MIN_POSITIVE);
         let shaft = self.shaft / tt;
         let cage = self.cage / tt;
-        let balls: Vec<BallSummary> = (0..m.z)
-            .map(|j| BallSummary {
-                inner_load: self.load_i[j] / tt,
-                outer_load: self.load_o[j] / tt,
-                inner_contact_angle: if self.t_i[j] > 0.0 {
-                    self.ang_i[j] / self.t_i[j]
-                } else {
-                    f64::NAN
-                },
-                outer_contact_angle: if self.t_o[j] > 0.0 {
-                    self.ang_o[j] / self.t_o[j]
-                } else {
-                    f64::NAN
-                },
-            })
-            .collect();
+        let balls = self.balls.finish();
         // Pure-rolling (epicyclic) cage speed at the load-weighted mean contact angles,
         // with outer-race control: the kinematics the quasi-static solution uses.
         let (mut wsum, mut ai, mut ao) = (0.0, 0.0, 0.0);
@@ -563,9 +533,10 @@ impl Averages {
     }
 }
 
-/// Contact statistics binned by azimuth: bin k collects whichever ball is within half a
-/// ball spacing of azimuth `2 pi k / Z`, so bin k compares with quasi-static ball k.
-struct ZoneSums {
+/// Time-weighted contact statistics in bins: one bin per ball, or per azimuth (bin k
+/// collects whichever ball is within half a ball spacing of `2 pi k / Z`, so it compares
+/// with quasi-static ball k). Angles are averaged over the time the contact is loaded.
+struct ContactSums {
     time: Vec<f64>,
     load_i: Vec<f64>,
     load_o: Vec<f64>,
@@ -575,9 +546,9 @@ struct ZoneSums {
     t_o: Vec<f64>,
 }
 
-impl ZoneSums {
+impl ContactSums {
     fn new(z: usize) -> Self {
-        ZoneSums {
+        ContactSums {
             time: vec![0.0; z],
             load_i: vec![0.0; z],
             load_o: vec![0.0; z],
@@ -587,7 +558,8 @@ impl ZoneSums {
             t_o: vec![0.0; z],
         }
     }
-    fn add(&mut self, k: usize, w: f64, li: f64, lo: f64, ai: f64, ao: f64) {
+    /// Add loads (N) and angles (rad) `(inner, outer, inner angle, outer angle)` with weight `w` (s).
+    fn add(&mut self, k: usize, w: f64, (li, lo, ai, ao): (f64, f64, f64, f64)) {
         self.time[k] += w;
         self.load_i[k] += w * li;
         self.load_o[k] += w * lo;
