@@ -2,6 +2,7 @@
 //! or as a raw little-endian f32 body with query parameters. Small signals are answered
 //! directly (200); large ones, or `mode=async`, are queued as jobs (202).
 
+use super::direct::run_direct;
 use super::extract::{as_object, content_type, from_value, parse_value, QueryParams};
 use super::jobs::enqueue;
 use super::problem::{ApiResult, FieldProblem, Problem};
@@ -78,20 +79,10 @@ pub async fn submit(
         .await;
     }
 
-    let _permit = state
-        .direct
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|_| Problem::unavailable("shutting down"))?;
-    let run = tokio::task::spawn_blocking(move || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            run_analysis(&input, &samples)
-        }))
+    let run = run_direct(&state, "the analysis", move || {
+        run_analysis(&input, &samples)
     })
-    .await
-    .map_err(|e| Problem::internal(format!("analysis task failed: {e}")))?
-    .map_err(|_| Problem::internal("the analysis panicked"))?;
+    .await?;
     let run = run.map_err(|m| {
         Problem::new(
             StatusCode::UNPROCESSABLE_ENTITY,

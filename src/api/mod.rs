@@ -5,6 +5,7 @@
 #![allow(clippy::result_large_err)]
 
 mod analyses;
+mod direct;
 mod extract;
 mod jobs;
 mod merge_patch;

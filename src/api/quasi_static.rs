@@ -1,5 +1,6 @@
 //! `POST /v1/quasi-static`: the Jones-Harris equilibrium, answered directly.
 
+use super::direct::run_direct;
 use super::extract::{as_object, from_value, parse_value, require_json};
 use super::problem::{ApiResult, Problem};
 use super::scene_input::resolve_scene;
@@ -30,20 +31,10 @@ pub async fn solve(
             "must be in (0, 100000] rev/min",
         ));
     }
-    let _permit = state
-        .direct
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|_| Problem::unavailable("shutting down"))?;
-    let solved = tokio::task::spawn_blocking(move || {
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            bearing_sim::quasi_static::solve(&scene, rpm)
-        }))
+    let solved = run_direct(&state, "the quasi-static solver", move || {
+        bearing_sim::quasi_static::solve(&scene, rpm)
     })
-    .await
-    .map_err(|e| Problem::internal(format!("solver task failed: {e}")))?
-    .map_err(|_| Problem::internal("the quasi-static solver panicked"))?;
+    .await?;
     match solved {
         Ok(solution) => Ok((StatusCode::OK, Json(solution)).into_response()),
         Err(SimError::Invalid(e)) => Err(Problem::scene_invalid("scene", &e)),
