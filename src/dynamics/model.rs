@@ -71,50 +71,49 @@ impl Model {
             m.rings.youngs_modulus,
             m.rings.poisson_ratio,
         );
-        let (fi, fo) = (b.inner_groove_curvature, b.outer_groove_curvature);
-        let rx_i = 0.5 * d * (1.0 - gamma);
-        let rx_o = 0.5 * d * (1.0 + gamma);
-        let path_i = 0.5 * dm - rb * alpha0.cos();
-        let path_o = 0.5 * dm + rb * alpha0.cos();
-        let defects = |ring: Ring, path: f64| -> Vec<RaceDefect> {
-            scene
-                .faults
-                .iter()
-                .filter(|f| f.ring == ring)
-                .map(|f| RaceDefect {
-                    angle: f.angle,
-                    half_angle: 0.5 * f.width / path,
-                    width: f.width,
-                    depth: f.depth,
-                })
-                .collect()
+        // One race: `sign` is -1 for the inner race (convex, ball outside the curvature-
+        // centre circle), +1 for the outer race (concave). Curvature centres: outer at
+        // x = 0, inner offset axially so that an unloaded ball touches both at the free
+        // contact angle (eqs. 4-7).
+        let race = |ring: Ring, groove_diameter: f64, f: f64, centre_axial: f64| {
+            let sign = if ring == Ring::Inner { -1.0 } else { 1.0 };
+            let rx = 0.5 * d * (1.0 + sign * gamma);
+            let path = 0.5 * dm + sign * rb * alpha0.cos();
+            Race {
+                inner: ring == Ring::Inner,
+                centre_radius: 0.5 * groove_diameter - sign * f * d,
+                centre_axial,
+                free_distance: (f - 0.5) * d,
+                hertz: hamrock_brewe(rx, f * d / (2.0 * f - 1.0), ep_race),
+                r_prime: 2.0 * f * d / (2.0 * f + 1.0),
+                ball_radius: rb,
+                path_radius: path,
+                rx,
+                defects: scene
+                    .faults
+                    .iter()
+                    .filter(|fault| fault.ring == ring)
+                    .map(|fault| RaceDefect {
+                        angle: fault.angle,
+                        half_angle: 0.5 * fault.width / path,
+                        width: fault.width,
+                        depth: fault.depth,
+                    })
+                    .collect(),
+            }
         };
-        // Curvature centres: outer at x = 0, inner offset axially so that an unloaded ball
-        // touches both at the free contact angle (eqs. 4-7).
-        let inner_race = Race {
-            inner: true,
-            centre_radius: 0.5 * b.inner_groove_diameter + fi * d,
-            centre_axial: bsum * alpha0.sin(),
-            free_distance: (fi - 0.5) * d,
-            hertz: hamrock_brewe(rx_i, fi * d / (2.0 * fi - 1.0), ep_race),
-            r_prime: 2.0 * fi * d / (2.0 * fi + 1.0),
-            ball_radius: rb,
-            path_radius: path_i,
-            rx: rx_i,
-            defects: defects(Ring::Inner, path_i),
-        };
-        let outer_race = Race {
-            inner: false,
-            centre_radius: 0.5 * b.outer_groove_diameter - fo * d,
-            centre_axial: 0.0,
-            free_distance: (fo - 0.5) * d,
-            hertz: hamrock_brewe(rx_o, fo * d / (2.0 * fo - 1.0), ep_race),
-            r_prime: 2.0 * fo * d / (2.0 * fo + 1.0),
-            ball_radius: rb,
-            path_radius: path_o,
-            rx: rx_o,
-            defects: defects(Ring::Outer, path_o),
-        };
+        let inner_race = race(
+            Ring::Inner,
+            b.inner_groove_diameter,
+            b.inner_groove_curvature,
+            bsum * alpha0.sin(),
+        );
+        let outer_race = race(
+            Ring::Outer,
+            b.outer_groove_diameter,
+            b.outer_groove_curvature,
+            0.0,
+        );
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
         let (ta, tb, tc, td) = scene.lubricant.traction.abcd();
         let contact = ContactParams {
