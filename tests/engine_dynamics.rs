@@ -119,50 +119,74 @@ fn band_rms(x: &[f64], fs: f64, fmax: f64) -> f64 {
     (e / (n as f64 * n as f64)).sqrt()
 }
 
-fn compound_constant_speed(duration: f64, tol: f64) -> Scene {
-    let mut s = constant_speed(duration, tol);
-    s.faults = fault_case_scene("h7005c", FaultCase::Compound)
-        .unwrap()
-        .faults;
-    s
-}
-
-#[test]
-fn tighter_tolerance_changes_little() {
-    // The compound-fault H7005C at 10000 rpm, 0.2 s: the averages start after a 50 ms
-    // settling time and span ~13 cage revolutions and ~170 outer-defect passes.
-    let a = run(&compound_constant_speed(0.2, 1e-6));
-    let b = run(&compound_constant_speed(0.2, 1e-7));
+/// Relative changes of the mean cage speed and of the pedestal Z band RMS (< 20 kHz, over the
+/// steady window) when the Table-1 scene of `case` is run at rtol = atol = 1e-6 and 1e-7.
+fn tolerance_changes(case: FaultCase) -> (f64, f64) {
+    let scene = |tol: f64| {
+        let mut s = fault_case_scene("h7005c", case).unwrap();
+        s.solver.rtol = tol;
+        s.solver.atol = tol;
+        s
+    };
+    let (a, b) = (run(&scene(1e-6)), run(&scene(1e-7)));
     let dc =
         (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
     let fs = a.channels.sample_rate;
     let w0 = (a.summary.steady_window[0] * fs) as usize;
-    let ra = band_rms(
-        &a.channels.get("outer_ring_accel_z").unwrap().data[w0..],
-        fs,
-        20e3,
-    );
-    let rb = band_rms(
-        &b.channels.get("outer_ring_accel_z").unwrap().data[w0..],
-        fs,
-        20e3,
-    );
+    let rms = |r: &SimResult| {
+        band_rms(
+            &r.channels.get("outer_ring_accel_z").unwrap().data[w0..],
+            fs,
+            20e3,
+        )
+    };
+    let (ra, rb) = (rms(&a), rms(&b));
     let dr = (ra - rb).abs() / rb;
-    eprintln!("cage speed change {dc:.2e}, RMS(<20 kHz) {ra:.3} vs {rb:.3} m/s^2 ({dr:.2e})");
-    // The brief's figures: 0.01 % and 1 %.
+    eprintln!(
+        "{case:?}: cage speed {:.4} vs {:.4} rad/s ({dc:.1e}), RMS(<20 kHz) {ra:.4} vs {rb:.4} m/s^2 ({dr:.1e}), steps {} vs {}",
+        a.summary.mean_cage_speed,
+        b.summary.mean_cage_speed,
+        a.summary.stats.accepted_steps,
+        b.summary.stats.accepted_steps
+    );
+    (dc, dr)
+}
+
+// Tightening the tolerance 10x (issue 2): the Table-1 scene (1000 -> 10000 rpm in 0.1 s,
+// 0.5 s, averages over 0.2-0.5 s: ~21 cage revolutions, ~340 outer-defect passes). The
+// brief's limits are 0.01 % on the mean cage speed and 1 % on the band RMS. Measured
+// 2026-11-21: cage speed changes of 3e-7 to 6e-7, RMS changes of 0.07 % (inner), 0.41 %
+// (outer) and 0.28 % (compound).
+
+#[test]
+fn tighter_tolerance_changes_little_inner_fault() {
+    let (dc, dr) = tolerance_changes(FaultCase::Inner);
+    assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
+    assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
+}
+
+#[test]
+fn tighter_tolerance_changes_little_outer_fault() {
+    let (dc, dr) = tolerance_changes(FaultCase::Outer);
+    assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
+    assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
+}
+
+#[test]
+fn tighter_tolerance_changes_little_compound_fault() {
+    let (dc, dr) = tolerance_changes(FaultCase::Compound);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
     assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
 }
 
 #[test]
 fn tighter_tolerance_keeps_healthy_cage_speed() {
-    // Healthy bearing: the mean cage speed converges like the faulted one. (Its band RMS,
-    // ~2 m/s^2 mostly from lightly loaded balls rattling in their pockets, is sensitive to
-    // the trajectory and scatters by 0.6-4 % between tolerances; see docs/benchmarks.md.)
-    let a = run(&constant_speed(0.2, 1e-6));
-    let b = run(&constant_speed(0.2, 1e-7));
-    let dc =
-        (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
+    // Healthy bearing: the mean cage speed converges like the faulted ones. Its band RMS
+    // (~2.3 m/s^2, mostly the 4th ball-pass harmonic on the pedestal resonance plus lightly
+    // loaded balls knocking in their pockets) is chaotic: 25 ms blocks scatter by ~4 %, and a
+    // 1e-8 relative change of the axial load moves the 0.3 s RMS by ~1.6 %, as much as a
+    // tolerance change does. It is printed here, not asserted (docs/benchmarks.md).
+    let (dc, _) = tolerance_changes(FaultCase::None);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
 }
 

@@ -5,7 +5,7 @@
 
 use super::model::Model;
 use super::state::Layout;
-use crate::physics::cage_land::land_force;
+use crate::physics::cage_land::{land_on_cage, AxisMotion};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion};
 use crate::physics::frames::{e_r, e_t, from_azimuth, tilt_matrix, to_azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
@@ -154,25 +154,39 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         }
     }
 
-    // Cage-land (eqs. 23-28), relative to the guiding ring.
+    // Cage-land (eqs. 23-28), relative to the guiding ring, over the land's width.
     let mut cage_torque_x = 0.0;
     let mut land_ecc = 0.0;
     if let Some(lp) = &m.land {
         let ring = if m.land_on_outer { &outer } else { &inner };
-        let lr = land_force(
+        let ex = Vector3::x();
+        let lr = land_on_cage(
             lp,
-            &(cage.centre - ring.centre),
-            &(cage.velocity - ring.velocity),
-            cage.omega.x,
-            ring.spin,
+            &AxisMotion {
+                centre: cage.centre,
+                velocity: cage.velocity,
+                axis: cage.rot * ex,
+                tilt_rate: Vector3::new(0.0, cage.omega.y, cage.omega.z),
+                spin: cage.omega.x,
+            },
+            &AxisMotion {
+                centre: ring.centre,
+                velocity: ring.velocity,
+                axis: ring.rot * ex,
+                // ring tilt rates do not enter surface velocities (docs/model.md)
+                tilt_rate: Vector3::zeros(),
+                spin: ring.spin,
+            },
         );
         f_cage += lr.force_on_cage;
+        m_cage += lr.moment_on_cage;
         cage_torque_x = lr.torque_on_cage;
         land_ecc = lr.eccentricity_ratio;
         if m.land_on_outer {
             f_outer -= lr.force_on_cage;
         } else {
             f_inner -= lr.force_on_cage;
+            m_inner += lr.moment_on_ring;
         }
     }
 
