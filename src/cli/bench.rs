@@ -25,7 +25,7 @@ pub enum BenchWhat {
     /// Run time against error for the compound-fault H7005C at a constant 10000 rpm.
     WorkPrecision {
         /// Simulated time per run, s.
-        #[arg(long, default_value_t = 0.2)]
+        #[arg(long, default_value_t = 0.5)]
         duration: f64,
         /// Tolerances (rtol = atol) to test.
         #[arg(long, value_delimiter = ',', default_values_t = vec![1e-4, 1e-5, 1e-6, 1e-7])]
