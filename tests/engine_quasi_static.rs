@@ -142,3 +142,38 @@ fn free_tilt_under_a_moment_tilts_the_ring_the_right_way() {
     );
     assert!(tilted.residual < 1e-6 * 316.0);
 }
+
+#[test]
+fn free_tilt_takes_moments_both_ways_up_to_its_limit() {
+    use bearing_sim::scene::TiltMode;
+    let mut scene = preset_scene("h7005c").unwrap();
+    scene.operating.inner_ring_tilt = TiltMode::Free;
+    let mut last = f64::INFINITY;
+    // Negative moments add to the tilt the radial load already causes; they need the
+    // continuation in the moment (a direct solve from the rigid guess stalls there).
+    for mo in [0.0, -0.5, -1.0, -2.0] {
+        scene.operating.applied_moment = [mo, 0.0];
+        let s = solve(&scene, 0.0).unwrap_or_else(|e| panic!("{mo} N m: {e}"));
+        assert!(
+            s.inner_ring_tilt[0] < last,
+            "{mo} N m: {:?}",
+            s.inner_ring_tilt
+        );
+        // the brief's 1e-6 of the applied load (316 N), moments counted at the pitch radius
+        assert!(
+            s.residual < 1e-6 * 316.0,
+            "{mo} N m: residual {}",
+            s.residual
+        );
+        last = s.inner_ring_tilt[0];
+    }
+    // With 100 N axial and 300 N radial the free ring's tilt stiffness falls to zero near
+    // +1.67 N m about Y (1.65 N m still solves, tilting it to +3.4e-3 rad); beyond that
+    // there is no equilibrium, and the error says so and how far it got.
+    scene.operating.applied_moment = [1.65, 0.0];
+    assert!(solve(&scene, 0.0).unwrap().inner_ring_tilt[0] > 0.0);
+    scene.operating.applied_moment = [2.0, 0.0];
+    let err = solve(&scene, 0.0).unwrap_err().to_string();
+    assert!(err.contains("carries a moment only up to a limit"), "{err}");
+    assert!(err.contains("found up to 8"), "{err}"); // 1.67 of 2 N m
+}

@@ -254,12 +254,17 @@ fn ring_residual(
     m: &Model,
     w: f64,
     u: &[f64],
+    moment_scale: f64,
     warm: &[[f64; 2]],
     balls: &mut Vec<[f64; 2]>,
 ) -> [f64; 5] {
     let inner = inner_ring(m, u, w);
     let mut f_ring = Vector3::new(m.applied_force[0], m.applied_force[1], m.applied_force[2]);
-    let mut m_ring = Vector3::new(0.0, m.applied_moment[0], m.applied_moment[1]);
+    let mut m_ring = Vector3::new(
+        0.0,
+        moment_scale * m.applied_moment[0],
+        moment_scale * m.applied_moment[1],
+    );
     balls.clear();
     for (j, th) in azimuths(m).into_iter().enumerate() {
         let p = solve_ball(m, &inner, w, th, warm.get(j).copied());
@@ -294,24 +299,108 @@ pub fn rolling_kinematics(r: f64, alpha_i: f64, alpha_o: f64, rb: f64, w_inner: 
     [x[0], x[1], x[2]]
 }
 
-/// Newton (with Levenberg damping) on the ring equilibrium; every residual evaluation
-/// puts each ball in its own equilibrium first (Jones-Harris nesting).
+/// Ring equilibrium: Newton with Levenberg damping, every residual evaluation putting each
+/// ball in its own equilibrium first (Jones-Harris nesting). With a free tilt under an
+/// applied moment that the direct solve misses, the moment is applied by continuation from
+/// the moment-free equilibrium.
 pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
+    let guess = initial_guess(m);
+    let direct = newton(m, w, guess, 1.0);
+    let (u, balls, iterations, residual) = match direct {
+        Ok(sol) => sol,
+        Err(fail) if m.tilt_free && m.applied_moment != [0.0, 0.0] => {
+            continuation(m, w, guess).map_err(|reached| no_equilibrium(m, fail, Some(reached)))?
+        }
+        Err(fail) => return Err(no_equilibrium(m, fail, None)),
+    };
+    let inner = inner_ring(m, &u, w);
+    let kinematics = azimuths(m)
+        .into_iter()
+        .zip(&balls)
+        .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).4)
+        .collect();
+    Ok(QsState {
+        ring: u,
+        balls,
+        kinematics,
+        iterations,
+        residual,
+    })
+}
+
+/// A converged ring state: unknowns, ball positions, iterations, largest force residual (N).
+type RingSolution = ([f64; 5], Vec<[f64; 2]>, u32, f64);
+
+/// Apply the moment in growing fractions, each solve starting from the last equilibrium.
+/// On failure returns the largest fraction of the moment found to have an equilibrium.
+fn continuation(m: &Model, w: f64, guess: [f64; 5]) -> Result<RingSolution, f64> {
+    let mut sol = newton(m, w, guess, 0.0).map_err(|_| 0.0)?;
+    let (mut done, mut step) = (0.0_f64, 0.25_f64);
+    let mut total_iterations = sol.2;
+    while done < 1.0 {
+        let next = (done + step).min(1.0);
+        // from the last equilibrium, else afresh (near the limit the warm start can stall)
+        match newton(m, w, sol.0, next).or_else(|_| newton(m, w, guess, next)) {
+            Ok(s) => {
+                total_iterations += s.2;
+                sol = s;
+                done = next;
+                step = (2.0 * step).min(0.5);
+            }
+            Err(_) if step > 1.0 / 256.0 => step *= 0.5,
+            Err(_) => return Err(done),
+        }
+    }
+    sol.2 = total_iterations;
+    Ok(sol)
+}
+
+fn no_equilibrium(m: &Model, (residual, iterations): (f64, u32), reached: Option<f64>) -> SimError {
+    let hint = match reached {
+        // Measured on the H7005C: the moment a free ring takes grows with the axial load and
+        // the tilt stiffness falls to zero at the limit.
+        Some(f) => format!(
+            "; with a free inner-ring tilt one angular contact bearing carries a moment only up to a limit set mostly by its axial load, and an equilibrium was found up to {:.0} % of the applied moment [{}, {}] N m: raise the axial load, lower the moment or lock the tilt",
+            100.0 * f,
+            m.applied_moment[0],
+            m.applied_moment[1]
+        ),
+        None => String::new(),
+    };
+    SimError::Numerical {
+        time: 0.0,
+        message: format!(
+            "quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations{hint}"
+        ),
+    }
+}
+
+/// Newton-Levenberg on the ring unknowns from `u0`, with `moment_scale` times the applied
+/// moment. Moments enter the residual divided by the pitch radius and tilts the unknowns
+/// times it, so every row and column is a force or a displacement of like size. On
+/// failure returns the largest ring force residual (N) and the iterations spent.
+fn newton(m: &Model, w: f64, u0: [f64; 5], moment_scale: f64) -> Result<RingSolution, (f64, u32)> {
     let nr = ring_unknowns(m);
-    let mut u = initial_guess(m);
+    let lever = m.pocket.pocket_radius;
+    let row = |r: [f64; 5]| [r[0], r[1], r[2], r[3] / lever, r[4] / lever];
+    let eval = |u: &[f64; 5], warm: &[[f64; 2]], out: &mut Vec<[f64; 2]>| {
+        row(ring_residual(m, w, u, moment_scale, warm, out))
+    };
+    let mut u = u0;
     let mut balls = Vec::new();
     let mut trial_balls = Vec::new();
     let fref = (m.applied_force.iter().map(|f| f * f).sum::<f64>())
         .sqrt()
         .max(1.0);
     let tol = 1e-10 * fref;
-    let mut res = ring_residual(m, w, &u, &[], &mut balls);
+    let mut res = eval(&u, &[], &mut balls);
     let norm = |r: &[f64; 5]| r[..nr].iter().map(|x| x * x).sum::<f64>();
     let mut cost = norm(&res);
     let mut lambda = 1e-6;
     let mut iterations = 0;
-    // ring displacements are micrometres: difference steps of 1e-12 m
-    let hstep = 1e-12;
+    // ring displacements are micrometres: difference steps of 1e-12 m (tilts: 1e-12 m at
+    // the pitch radius)
+    let hstep = |k: usize| if k < 3 { 1e-12 } else { 1e-12 / lever };
     for it in 0..200 {
         iterations = it;
         if res[..nr].iter().all(|x| x.abs() < tol) {
@@ -320,10 +409,11 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
         let mut jac = nalgebra::DMatrix::<f64>::zeros(nr, nr);
         for k in 0..nr {
             let mut up = u;
-            up[k] += hstep;
-            let r1 = ring_residual(m, w, &up, &balls, &mut trial_balls);
+            up[k] += hstep(k);
+            let r1 = eval(&up, &balls, &mut trial_balls);
             for i in 0..nr {
-                jac[(i, k)] = (r1[i] - res[i]) / hstep;
+                // derivative per scaled unknown (tilt times the pitch radius)
+                jac[(i, k)] = (r1[i] - res[i]) / 1e-12;
             }
         }
         let rv = nalgebra::DVector::from_column_slice(&res[..nr]);
@@ -339,9 +429,9 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
             };
             let mut cand = u;
             for i in 0..nr {
-                cand[i] += step[i];
+                cand[i] += step[i] * hstep(i) / 1e-12;
             }
-            let r2 = ring_residual(m, w, &cand, &balls, &mut trial_balls);
+            let r2 = eval(&cand, &balls, &mut trial_balls);
             let c2 = norm(&r2);
             if c2.is_finite() && c2 < cost {
                 u = cand;
@@ -360,24 +450,9 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
     }
     let residual = res[..nr].iter().fold(0.0f64, |a, x| a.max(x.abs()));
     if !(residual < 1e-6 * fref) || u.iter().any(|x| !x.is_finite()) {
-        return Err(SimError::Numerical {
-            time: 0.0,
-            message: format!("quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations"),
-        });
+        return Err((residual, iterations));
     }
-    let inner = inner_ring(m, &u, w);
-    let kinematics = azimuths(m)
-        .into_iter()
-        .zip(&balls)
-        .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).4)
-        .collect();
-    Ok(QsState {
-        ring: u,
-        balls,
-        kinematics,
-        iterations,
-        residual,
-    })
+    Ok((u, balls, iterations, residual))
 }
 
 /// Rigid guess for the inner ring from a stiffness estimate.
