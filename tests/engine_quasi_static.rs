@@ -175,5 +175,12 @@ fn free_tilt_takes_moments_both_ways_up_to_its_limit() {
     scene.operating.applied_moment = [2.0, 0.0];
     let err = solve(&scene, 0.0).unwrap_err().to_string();
     assert!(err.contains("carries a moment only up to a limit"), "{err}");
-    assert!(err.contains("found up to 8"), "{err}"); // 1.67 of 2 N m
+    // about 1.67 of the 2 N m (continuation fractions are multiples of 1/256)
+    let pct: f64 = err
+        .split("found up to ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no fraction in: {err}"));
+    assert!((80.0..=86.0).contains(&pct), "{pct} % in: {err}");
 }

@@ -252,6 +252,29 @@ mod tests {
     }
 
     #[test]
+    fn stations_carry_the_second_moment_of_the_parabolic_pressure() {
+        // int z^2 (L^2/4 - z^2) dz / int (L^2/4 - z^2) dz over the width = L^2 / 20
+        assert!((GAUSS_STATION * GAUSS_STATION - 1.0 / 20.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn tilted_ring_and_aligned_cage_turn_towards_each_other() {
+        // The guiding ring tilted 0.07 rad about Z, the cage aligned and centred: the rim
+        // touches at both stations; the ring is turned back (negative about Z) and the
+        // cage towards the ring (positive), with no net force.
+        let p = params();
+        let cage = body(Vector3::zeros(), Vector3::x(), 0.0);
+        let ring = body(Vector3::zeros(), Vector3::new(1.0, 0.07, 0.0), 0.0);
+        let w = land_on_cage(&p, &cage, &ring);
+        assert!(w.moment_on_ring.z < 0.0, "{:?}", w.moment_on_ring);
+        assert!(w.moment_on_cage.z > 0.0, "{:?}", w.moment_on_cage);
+        assert!(w.force_on_cage.norm() < 1e-9 * w.moment_on_cage.norm() / p.width);
+        // equally tilted cage and ring: no film change anywhere, nothing acts
+        let both = land_on_cage(&p, &ring, &ring);
+        assert_eq!(both.force_on_cage.norm() + both.moment_on_cage.norm(), 0.0);
+    }
+
+    #[test]
     fn tilting_cage_is_damped_by_the_squeeze_film() {
         // Non-rotating cage, slightly tilted about Z and tilting further: the squeeze film
         // resists the tilt rate (moment about Z opposite to the rate).

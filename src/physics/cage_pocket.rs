@@ -133,3 +133,123 @@ pub fn pocket_contact(
     out.moment_on_cage = (point - cage.centre).cross(&(-f_ball));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> PocketParams {
+        PocketParams {
+            clearance: 0.167e-3,
+            pocket_radius: 18e-3,
+            hertz: HertzContact {
+                k: 1.0e9,
+                a_coef: 1e-4,
+                b_coef: 1e-4,
+            },
+            critical_film: 0.8e-6,
+            viscosity: 4.44e-3,
+            ball_radius: 2.778e-3,
+            friction: 0.08,
+            damping_ratio: 0.05,
+            damping_mass: 0.7e-3,
+        }
+    }
+
+    fn cage_at_rest() -> CageMotion {
+        CageMotion {
+            centre: Vector3::zeros(),
+            velocity: Vector3::zeros(),
+            rot: Matrix3::identity(),
+            spin_angle: 0.0,
+            omega: Vector3::zeros(),
+        }
+    }
+
+    // Pocket 0 of a cage at rest has its axis along +Z and its centre at (0, 0, 18 mm).
+    fn ball_at(offset: Vector3<f64>) -> Vector3<f64> {
+        Vector3::new(0.0, 0.0, 18e-3) + offset
+    }
+
+    #[test]
+    fn centred_ball_feels_nothing_and_radial_motion_changes_no_film() {
+        let p = params();
+        let z = Vector3::zeros();
+        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(z), &z, &z);
+        assert_eq!(r.normal, 0.0);
+        // moving along the pocket axis (the bearing's radial direction) keeps the film
+        let off = Vector3::new(0.0, 50e-6, 0.0);
+        let a = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &z, &z);
+        let b = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            0.0,
+            &ball_at(off + Vector3::new(0.0, 0.0, 0.3e-3)),
+            &z,
+            &z,
+        );
+        assert!((a.film - (p.clearance - 50e-6)).abs() < 1e-15);
+        assert!((a.film - b.film).abs() < 1e-15);
+    }
+
+    #[test]
+    fn ball_past_the_critical_film_is_pushed_back_by_hertz() {
+        // 1 um past the critical film, at rest: Q = K (1e-6)^1.5 = 1 N for K = 1e9 N/m^1.5
+        let p = params();
+        let z = Vector3::zeros();
+        let off = Vector3::new(0.0, p.clearance - p.critical_film + 1e-6, 0.0);
+        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &z, &z);
+        assert!((r.normal - 1.0).abs() < 1e-9, "{}", r.normal);
+        // on the ball towards the pocket axis (-Y), the opposite on the cage
+        assert!((r.force_on_ball - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-9);
+        assert!((r.force_on_cage + r.force_on_ball).norm() < 1e-15);
+        // the cage is pushed at the contact point, 18 mm out along Z: moment -Y x Z... = +X
+        let point = ball_at(off) + p.ball_radius * Vector3::y();
+        let m = point.cross(&r.force_on_cage);
+        assert!((r.moment_on_cage - m).norm() < 1e-15);
+        assert!(r.moment_on_cage.x < 0.0);
+    }
+
+    #[test]
+    fn squeeze_film_resists_approach_and_never_pulls() {
+        // 20 um of film, ball approaching the wall at 0.1 m/s: F = 6 pi eta R^2 v / h
+        let p = params();
+        let z = Vector3::zeros();
+        let h = 20e-6;
+        let off = Vector3::new(0.0, p.clearance - h, 0.0);
+        let v = Vector3::new(0.0, 0.1, 0.0);
+        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &v, &z);
+        let expect = 6.0 * PI * p.viscosity * p.ball_radius.powi(2) * 0.1 / h;
+        assert!(
+            (r.normal - expect).abs() < 1e-12 * expect,
+            "{} vs {expect}",
+            r.normal
+        );
+        assert!(r.force_on_ball.y < 0.0);
+        let away = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &(-v), &z);
+        assert_eq!(away.normal, 0.0);
+    }
+
+    #[test]
+    fn sliding_ball_in_contact_gets_coulomb_friction_against_its_slip() {
+        // Ball spinning about X at 100 rad/s against the wall on +Y: surface speed 0.28 m/s
+        // along Z at the contact, far above the 1 cm/s regularisation, so |F_t| = mu Q.
+        let p = params();
+        let off = Vector3::new(0.0, p.clearance - p.critical_film + 1e-6, 0.0);
+        let w = Vector3::new(100.0, 0.0, 0.0);
+        let r = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            0.0,
+            &ball_at(off),
+            &Vector3::zeros(),
+            &w,
+        );
+        let tangential = r.force_on_ball - r.force_on_ball.dot(&Vector3::y()) * Vector3::y();
+        assert!((tangential.norm() - p.friction * r.normal).abs() < 1e-9);
+        // w x (R e_y) = 100 R e_z: the surface slides along +Z, friction acts along -Z
+        assert!(tangential.z < 0.0);
+        // and it slows the spin: moment about X opposite to w
+        assert!(r.moment_on_ball.x < 0.0);
+    }
+}

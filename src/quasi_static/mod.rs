@@ -309,7 +309,11 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, SimError> {
     let (u, balls, iterations, residual) = match direct {
         Ok(sol) => sol,
         Err(fail) if m.tilt_free && m.applied_moment != [0.0, 0.0] => {
-            continuation(m, w, guess).map_err(|reached| no_equilibrium(m, fail, Some(reached)))?
+            match continuation(m, w, guess) {
+                Ok(sol) => sol,
+                Err(None) => return Err(no_equilibrium(m, fail, None)),
+                Err(Some(reached)) => return Err(no_equilibrium(m, fail, Some(reached))),
+            }
         }
         Err(fail) => return Err(no_equilibrium(m, fail, None)),
     };
@@ -333,8 +337,9 @@ type RingSolution = ([f64; 5], Vec<[f64; 2]>, u32, f64);
 
 /// Apply the moment in growing fractions, each solve starting from the last equilibrium.
 /// On failure returns the largest fraction of the moment found to have an equilibrium.
-fn continuation(m: &Model, w: f64, guess: [f64; 5]) -> Result<RingSolution, f64> {
-    let mut sol = newton(m, w, guess, 0.0).map_err(|_| 0.0)?;
+/// (`None` when even the moment-free ring has no equilibrium.)
+fn continuation(m: &Model, w: f64, guess: [f64; 5]) -> Result<RingSolution, Option<f64>> {
+    let mut sol = newton(m, w, guess, 0.0).map_err(|_| None)?;
     let (mut done, mut step) = (0.0_f64, 0.25_f64);
     let mut total_iterations = sol.2;
     while done < 1.0 {
@@ -347,8 +352,8 @@ fn continuation(m: &Model, w: f64, guess: [f64; 5]) -> Result<RingSolution, f64>
                 done = next;
                 step = (2.0 * step).min(0.5);
             }
-            Err(_) if step > 1.0 / 256.0 => step *= 0.5,
-            Err(_) => return Err(done),
+            Err(_) if next - done > 1.0 / 256.0 => step = 0.5 * (next - done),
+            Err(_) => return Err(Some(done)),
         }
     }
     sol.2 = total_iterations;
@@ -370,7 +375,7 @@ fn no_equilibrium(m: &Model, (residual, iterations): (f64, u32), reached: Option
     SimError::Numerical {
         time: 0.0,
         message: format!(
-            "quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations{hint}"
+            "quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations of the direct solve{hint}"
         ),
     }
 }
@@ -400,7 +405,8 @@ fn newton(m: &Model, w: f64, u0: [f64; 5], moment_scale: f64) -> Result<RingSolu
     let mut iterations = 0;
     // ring displacements are micrometres: difference steps of 1e-12 m (tilts: 1e-12 m at
     // the pitch radius)
-    let hstep = |k: usize| if k < 3 { 1e-12 } else { 1e-12 / lever };
+    // (translations keep a factor of exactly 1 so a locked tilt solves as before)
+    let unit = |k: usize| if k < 3 { 1.0 } else { 1.0 / lever };
     for it in 0..200 {
         iterations = it;
         if res[..nr].iter().all(|x| x.abs() < tol) {
@@ -409,7 +415,7 @@ fn newton(m: &Model, w: f64, u0: [f64; 5], moment_scale: f64) -> Result<RingSolu
         let mut jac = nalgebra::DMatrix::<f64>::zeros(nr, nr);
         for k in 0..nr {
             let mut up = u;
-            up[k] += hstep(k);
+            up[k] += 1e-12 * unit(k);
             let r1 = eval(&up, &balls, &mut trial_balls);
             for i in 0..nr {
                 // derivative per scaled unknown (tilt times the pitch radius)
@@ -429,7 +435,7 @@ fn newton(m: &Model, w: f64, u0: [f64; 5], moment_scale: f64) -> Result<RingSolu
             };
             let mut cand = u;
             for i in 0..nr {
-                cand[i] += step[i] * hstep(i) / 1e-12;
+                cand[i] += step[i] * unit(i);
             }
             let r2 = eval(&cand, &balls, &mut trial_balls);
             let c2 = norm(&r2);
