@@ -223,3 +223,128 @@ pub fn race_contact(
     out.moment_on_ring = m_ring + r_contact.cross(&(-normal_force_on_ball));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // H7005C-like outer race: 41.562 mm groove, f = 0.536, 5.556 mm ball.
+    const D: f64 = 5.556e-3;
+    const F: f64 = 0.536;
+
+    fn outer_race() -> Race {
+        Race {
+            inner: false,
+            centre_radius: 0.5 * 41.562e-3 - F * D,
+            centre_axial: 0.0,
+            free_distance: (F - 0.5) * D,
+            hertz: HertzContact {
+                k: 8.0e9,
+                a_coef: 1.0e-4,
+                b_coef: 1.5e-5,
+            },
+            r_prime: 2.0 * F * D / (2.0 * F + 1.0),
+            ball_radius: 0.5 * D,
+            path_radius: 0.5 * 41.562e-3,
+            rx: 0.5 * D,
+            defects: vec![],
+        }
+    }
+
+    fn ring_at_rest(spin: f64) -> RingMotion {
+        RingMotion {
+            centre: Vector3::zeros(),
+            rot: Matrix3::identity(),
+            velocity: Vector3::zeros(),
+            spin,
+            spin_angle: 0.0,
+        }
+    }
+
+    fn params() -> ContactParams {
+        ContactParams {
+            // constant mu = 0.05 above 1 mm/s
+            traction: TractionCurve {
+                a: 0.0,
+                b: 0.0,
+                c: 0.0,
+                d: 0.05,
+            },
+            strips: 10,
+            damping_ratio: 0.05,
+            ball_mass: 0.7e-3,
+        }
+    }
+
+    /// Ball at azimuth 0 (+Z), its centre `free_distance + delta` from the curvature centre
+    /// at the contact angle `alpha`: outwards (+Z) and axially (+X) towards the groove.
+    fn ball_at(race: &Race, alpha: f64, delta: f64, omega: Vector3<f64>) -> BallMotion {
+        let d = race.free_distance + delta;
+        BallMotion {
+            centre: Vector3::new(
+                race.centre_axial + d * alpha.sin(),
+                0.0,
+                race.centre_radius + d * alpha.cos(),
+            ),
+            velocity: Vector3::zeros(),
+            omega,
+        }
+    }
+
+    /// Unit normal from the ball centre to the outer-race contact at `alpha`.
+    fn normal(alpha: f64) -> Vector3<f64> {
+        Vector3::new(alpha.sin(), 0.0, alpha.cos())
+    }
+
+    #[test]
+    fn geometry_gives_the_deformation_angle_and_hertz_load() {
+        // 4 um of approach at 15 deg: Q = K delta^1.5 = 8e9 * (4e-6)^1.5 = 64 N, along the
+        // line of centres, the ring getting the opposite force.
+        let race = outer_race();
+        let alpha = 15f64.to_radians();
+        let ball = ball_at(&race, alpha, 4e-6, Vector3::zeros());
+        let r = race_contact(&race, &ring_at_rest(0.0), &ball, &params());
+        assert!((r.delta - 4e-6).abs() < 1e-15, "{}", r.delta);
+        assert!((r.alpha - alpha).abs() < 1e-12, "{}", r.alpha);
+        assert!(r.azimuth.abs() < 1e-12);
+        assert!((r.load - 64.0).abs() < 1e-9, "{}", r.load);
+        // a ball at rest on a ring at rest: no slip, so no traction; the force is normal
+        let n = normal(alpha);
+        assert!(
+            (r.force_on_ball + 64.0 * n).norm() < 1e-9,
+            "{:?}",
+            r.force_on_ball
+        );
+        assert!((r.force_on_ring + r.force_on_ball).norm() < 1e-12);
+    }
+
+    #[test]
+    fn ball_inside_the_clearance_carries_nothing() {
+        let race = outer_race();
+        let ball = ball_at(&race, 0.2, -1e-6, Vector3::zeros());
+        let r = race_contact(&race, &ring_at_rest(0.0), &ball, &params());
+        assert!(r.delta < 0.0);
+        assert_eq!(r.load, 0.0);
+        assert_eq!(r.force_on_ball.norm() + r.force_on_ring.norm(), 0.0);
+    }
+
+    #[test]
+    fn sliding_ball_is_dragged_by_the_ring_with_mu_q() {
+        // A non-rotating ball on a race spinning at 100 rad/s about X: every strip slides at
+        // ~2 m/s, so the traction is mu Q = 0.05 * 64 = 3.2 N (the strips' slips differ by
+        // their radius, < 1 %), along the ring's surface velocity (X x Z = -Y).
+        let race = outer_race();
+        let ball = ball_at(&race, 15f64.to_radians(), 4e-6, Vector3::zeros());
+        let r = race_contact(&race, &ring_at_rest(100.0), &ball, &params());
+        let tr = r.force_on_ball + r.load * normal(15f64.to_radians());
+        assert!((tr.norm() - 3.2).abs() < 0.01 * 3.2, "{:?}", tr);
+        assert!(tr.y < -0.99 * tr.norm(), "{:?}", tr);
+        // angular momentum balance about the ring centre: M_ring + M_ball + r_ball x F_ball = 0
+        let total = r.moment_on_ring + r.moment_on_ball + ball.centre.cross(&r.force_on_ball);
+        assert!(
+            total.norm() < 1e-12 * r.load * race.path_radius,
+            "{:?}",
+            total
+        );
+    }
+}
