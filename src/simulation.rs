@@ -131,6 +131,21 @@ pub struct SimResult {
     pub channels: Channels,
 }
 
+impl SimResult {
+    /// RMS of `channel` below `fmax` (Hz) over the summary's steady window, in the channel's
+    /// unit; `None` for a channel the run did not record.
+    pub fn steady_band_rms(&self, channel: &str, fmax: f64) -> Option<f64> {
+        let fs = self.channels.sample_rate;
+        let data = &self.channels.get(channel)?.data;
+        let w0 = ((self.summary.steady_window[0] - self.channels.start_time) * fs) as usize;
+        Some(crate::signal::spectrum::band_rms(
+            &data[w0.min(data.len())..],
+            fs,
+            fmax,
+        ))
+    }
+}
+
 /// Run a scene to completion (or cancellation / failure).
 pub fn simulate(scene: &Scene, ctl: RunControl<'_>) -> Result<SimResult, SimError> {
     scene.validate()?;

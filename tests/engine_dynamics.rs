@@ -97,28 +97,6 @@ fn steady_run_agrees_with_quasi_static() {
     );
 }
 
-/// RMS of a signal after removing everything above `fmax` (FFT brick-wall), m/s^2.
-fn band_rms(x: &[f64], fs: f64, fmax: f64) -> f64 {
-    use realfft::RealFftPlanner;
-    let n = x.len();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(n);
-    let mut input = x.to_vec();
-    let mut spec = fwd.make_output_vec();
-    fwd.process(&mut input, &mut spec).unwrap();
-    // Parseval over the kept bins (DC excluded)
-    let mut e = 0.0;
-    for (k, c) in spec.iter().enumerate().skip(1) {
-        let f = k as f64 * fs / n as f64;
-        if f > fmax {
-            break;
-        }
-        let w = if 2 * k == n { 1.0 } else { 2.0 };
-        e += w * c.norm_sqr();
-    }
-    (e / (n as f64 * n as f64)).sqrt()
-}
-
 /// Relative changes of the mean cage speed and of the pedestal Z band RMS (< 20 kHz, over the
 /// steady window) when the Table-1 scene of `case` is run at rtol = atol = 1e-6 and 1e-7.
 fn tolerance_changes(case: FaultCase) -> (f64, f64) {
@@ -131,15 +109,7 @@ fn tolerance_changes(case: FaultCase) -> (f64, f64) {
     let (a, b) = (run(&scene(1e-6)), run(&scene(1e-7)));
     let dc =
         (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
-    let fs = a.channels.sample_rate;
-    let w0 = (a.summary.steady_window[0] * fs) as usize;
-    let rms = |r: &SimResult| {
-        band_rms(
-            &r.channels.get("outer_ring_accel_z").unwrap().data[w0..],
-            fs,
-            20e3,
-        )
-    };
+    let rms = |r: &SimResult| r.steady_band_rms("outer_ring_accel_z", 20e3).unwrap();
     let (ra, rb) = (rms(&a), rms(&b));
     let dr = (ra - rb).abs() / rb;
     eprintln!(

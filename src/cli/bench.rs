@@ -91,28 +91,8 @@ fn scene(duration: f64, tol: f64) -> Scene {
 
 /// RMS of the pedestal Z acceleration below 20 kHz over the steady window, m/s^2.
 fn band_rms(r: &SimResult) -> f64 {
-    use realfft::RealFftPlanner;
-    let fs = r.channels.sample_rate;
-    let w0 = (r.summary.steady_window[0] * fs) as usize;
-    let x = &r
-        .channels
-        .get("outer_ring_accel_z")
+    r.steady_band_rms("outer_ring_accel_z", 20e3)
         .expect("always recorded")
-        .data[w0..];
-    let n = x.len();
-    let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(n);
-    let mut input = x.to_vec();
-    let mut spec = fwd.make_output_vec();
-    fwd.process(&mut input, &mut spec)
-        .expect("sizes from the plan");
-    let mut e = 0.0;
-    for (k, c) in spec.iter().enumerate().skip(1) {
-        if k as f64 * fs / n as f64 > 20e3 {
-            break;
-        }
-        e += if 2 * k == n { 1.0 } else { 2.0 } * c.norm_sqr();
-    }
-    (e / (n as f64 * n as f64)).sqrt()
 }
 
 fn work_precision(duration: f64, tolerances: &[f64]) -> CliResult {

@@ -155,10 +155,48 @@ pub fn envelope_spectrum(x: &[f64], fs: f64, band: Option<[f64; 2]>) -> Spectrum
     EnvelopeSpectrumPlan::new(x.len()).compute(x, fs, band)
 }
 
+/// RMS of `x` counting only its content between DC (excluded) and `fmax` (an FFT brick-wall
+/// low-pass, by Parseval over the kept bins), in the unit of `x`.
+pub fn band_rms(x: &[f64], fs: f64, fmax: f64) -> f64 {
+    let n = x.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let fwd = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+    let mut input = x.to_vec();
+    let mut spec = fwd.make_output_vec();
+    fwd.process(&mut input, &mut spec)
+        .expect("buffers sized by the plan");
+    let mut e = 0.0;
+    for (k, c) in spec.iter().enumerate().skip(1) {
+        if k as f64 * fs / n as f64 > fmax {
+            break;
+        }
+        // one-sided bins stand for two, except Nyquist
+        e += if 2 * k == n { 1.0 } else { 2.0 } * c.norm_sqr();
+    }
+    (e / (n as f64 * n as f64)).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    #[test]
+    fn band_rms_keeps_only_the_band() {
+        // offset 5 + 0.8 cos(100 Hz) + 0.6 cos(3 kHz) on bins: below 1 kHz only the 100 Hz
+        // line counts (0.8 / sqrt 2); below 5 kHz both (sqrt(0.32 + 0.18) = sqrt 0.5).
+        let (n, fs) = (10_000, 10_000.0);
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / fs;
+                5.0 + 0.8 * (2.0 * PI * 100.0 * t).cos() + 0.6 * (2.0 * PI * 3000.0 * t).cos()
+            })
+            .collect();
+        assert!((band_rms(&x, fs, 1000.0) - 0.8 / 2f64.sqrt()).abs() < 1e-12);
+        assert!((band_rms(&x, fs, 5000.0) - 0.5f64.sqrt()).abs() < 1e-12);
+    }
 
     #[test]
     fn on_bin_sinusoid_reads_its_amplitude() {
