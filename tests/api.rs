@@ -22,13 +22,13 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
         .send()
         .await
         .unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 400);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 400);
 
     // 415: no JSON content type
     let r = c.post(&sims).body("{}").send().await.unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 415);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 415);
 
     // 422: unknown scene member, with its path
     let mut scene = get_json(&c, &s.url("/v1/presets/h7005c")).await.2["scene"].clone();
@@ -87,8 +87,8 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     let (st, h, body) = get_json(&c, &s.url("/v1/nothing-here")).await;
     assert_problem(st, &h, &body, 404);
     let r = c.put(&sims).send().await.unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 405);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 405);
 
     // 400: bad query parameters
     for q in ["?state=bogus", "?limit=0", "?limit=x", "?cursor=abc"] {
@@ -116,8 +116,8 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
         .send()
         .await
         .unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 409);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 409);
     // 400: signals without a channel
     let (st, h, body) = get_json(&c, &s.url(&format!("/v1/simulations/{id}/signals"))).await;
     assert_problem(st, &h, &body, 400);
@@ -133,8 +133,8 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
         .send()
         .await
         .unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 409);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 409);
 
     // Idempotency-Key: replay -> 200 same job; other body -> 422
     let send = |body: Value| {
@@ -167,8 +167,8 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
         .send()
         .await
         .unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 415);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 415);
     let samples: Vec<f64> = (0..64).map(|i| (i as f64).sin()).collect();
     let (st, h, body) = post_json(&c, &s.url("/v1/analyses"), &json!({"samples": samples, "sample_rate": 1000.0, "geometry": {"ball_count": 9, "ball_diameter": -1.0, "pitch_diameter": 0.04, "contact_angle": 0.0}, "shaft_hz": 10.0})).await;
     assert_problem(st, &h, &body, 422);
@@ -190,8 +190,8 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
         .send()
         .await
         .unwrap();
-    let (st, h) = (r.status().as_u16(), r.headers().clone());
-    assert_problem(st, &h, &r.json().await.unwrap(), 422);
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 422);
 
     // quasi-static: validation uses the same paths
     let (st, h, body) = post_json(
@@ -223,14 +223,7 @@ async fn full_queue_answers_429_with_retry_after() {
         .unwrap();
     assert!(retry >= 1);
     // the queue depth is visible in the metrics
-    let m = c
-        .get(s.url("/metrics"))
-        .send()
-        .await
-        .unwrap()
-        .text()
-        .await
-        .unwrap();
+    let m = get_text(&c, &s.url("/metrics")).await;
     assert!(m.contains("bearing_sim_queue_depth 3"), "{m}");
 }
 
@@ -360,14 +353,7 @@ async fn presets_and_operational_endpoints() {
 
     assert_eq!(get_json(&c, &s.url("/healthz")).await.0, 200);
     assert_eq!(get_json(&c, &s.url("/readyz")).await.0, 200);
-    let m = c
-        .get(s.url("/metrics"))
-        .send()
-        .await
-        .unwrap()
-        .text()
-        .await
-        .unwrap();
+    let m = get_text(&c, &s.url("/metrics")).await;
     for name in [
         "bearing_sim_queue_depth",
         "bearing_sim_jobs{state=\"queued\"}",
@@ -375,14 +361,7 @@ async fn presets_and_operational_endpoints() {
     ] {
         assert!(m.contains(name), "{name} missing:\n{m}");
     }
-    let spec = c
-        .get(s.url("/openapi.yaml"))
-        .send()
-        .await
-        .unwrap()
-        .text()
-        .await
-        .unwrap();
+    let spec = get_text(&c, &s.url("/openapi.yaml")).await;
     assert!(spec.starts_with("openapi: 3.1"));
 
     // CORS: the configured origin may read Location, ETag and Retry-After

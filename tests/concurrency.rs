@@ -81,14 +81,7 @@ async fn fifty_clients_two_hundred_jobs_each_completes_exactly_once() {
     }
 
     // The process never ran more than WORKERS jobs at once ...
-    let m = c
-        .get(s.url("/metrics"))
-        .send()
-        .await
-        .unwrap()
-        .text()
-        .await
-        .unwrap();
+    let m = get_text(&c, &s.url("/metrics")).await;
     let max: usize = m
         .lines()
         .find_map(|l| l.strip_prefix("bearing_sim_jobs_running_max "))

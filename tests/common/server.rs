@@ -106,7 +106,15 @@ pub async fn post_json(
     url: &str,
     body: &Value,
 ) -> (u16, reqwest::header::HeaderMap, Value) {
-    let r = c.post(url).json(body).send().await.unwrap();
+    decode(c.post(url).json(body).send().await.unwrap()).await
+}
+
+pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
+    decode(c.get(url).send().await.unwrap()).await
+}
+
+/// Status, headers and body (JSON, or the text as a JSON string) of a response.
+pub async fn decode(r: reqwest::Response) -> (u16, reqwest::header::HeaderMap, Value) {
     let status = r.status().as_u16();
     let headers = r.headers().clone();
     let text = r.text().await.unwrap();
@@ -117,16 +125,9 @@ pub async fn post_json(
     )
 }
 
-pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
-    let r = c.get(url).send().await.unwrap();
-    let status = r.status().as_u16();
-    let headers = r.headers().clone();
-    let text = r.text().await.unwrap();
-    (
-        status,
-        headers,
-        serde_json::from_str(&text).unwrap_or(Value::String(text)),
-    )
+/// Body of a GET as text (metrics, the OpenAPI document).
+pub async fn get_text(c: &reqwest::Client, url: &str) -> String {
+    c.get(url).send().await.unwrap().text().await.unwrap()
 }
 
 pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
