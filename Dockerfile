@@ -6,8 +6,9 @@ FROM rust:1.95-bookworm AS build
 WORKDIR /src
 COPY Cargo.toml Cargo.lock ./
 COPY src ./src
-# Cargo.toml declares the bench target, so its source must be present to build at all.
-COPY benches ./benches
+# The engine crate (a workspace member; its manifest declares a bench, so that source
+# comes along).
+COPY crates ./crates
 COPY migrations ./migrations
 COPY openapi.yaml ./
 # --locked: exactly the dependency versions of Cargo.lock, as CI builds them.

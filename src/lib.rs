@@ -1,19 +1,22 @@
-//! bearing-sim: dynamic simulation and vibration diagnosis of angular contact ball
-//! bearings with localized inner/outer raceway defects.
+//! bearing-sim: the HTTP service and command line around the `bearing_core` engine.
 //!
-//! This library is plain synchronous Rust (no async runtime, HTTP or SQL): the
-//! `bearing-sim` binary wraps it in a CLI and an HTTP service.
+//! Layers, each importing only from those above it in this list:
+//! - [`store`]: durable jobs and their outputs behind the [`store::Store`] trait (SQLite).
+//! - [`config`], [`metrics`]: service settings and Prometheus counters.
+//! - [`jobs`]: workers that claim jobs, run the engine, and store typed records.
+//! - [`api`]: the axum router, request parsing and problem+json errors.
+//! - [`serve`]: a running service (store + workers + router) on a listener.
+//! - [`cli`]: the `bearing-sim` subcommands; `main.rs` only dispatches to them.
 //!
-//! - [`scene`]: the input (geometry, materials, lubricant, operating point, faults, solver), validation, presets.
-//! - [`physics`]: frames, contact geometry, Hertz, traction, cage interactions, defects.
-//! - [`quasi_static`]: Jones-Harris quasi-static equilibrium (reference and initial state).
-//! - [`dynamics`]: state layout, equations of motion, integrators, sampling.
-//! - [`simulation`]: one call from a scene to a result.
-//! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification.
+//! The engine (`bearing_core`) has no async runtime, HTTP or SQL in its dependencies.
 
-pub mod dynamics;
-pub mod physics;
-pub mod quasi_static;
-pub mod scene;
-pub mod signal;
-pub mod simulation;
+pub mod api;
+pub mod cli;
+pub mod config;
+pub mod jobs;
+pub mod metrics;
+pub mod serve;
+pub mod store;
+
+pub use api::router;
+pub use serve::{run, run_until};

@@ -10,7 +10,7 @@ use std::time::Duration;
 async fn every_bad_input_gets_its_status_and_a_problem() {
     let (_dir, db) = temp_db();
     // No workers: jobs stay queued, so state conflicts are deterministic.
-    let s = Server::start(&db, &["--workers", "0", "--max-body-bytes", "65536"]);
+    let s = TestApp::spawn(&db, &["--workers", "0", "--max-body-bytes", "65536"]);
     let c = client();
     let sims = s.url("/v1/simulations");
 
@@ -207,7 +207,7 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
 #[tokio::test]
 async fn full_queue_answers_429_with_retry_after() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "0", "--max-queued", "3"]);
+    let s = TestApp::spawn(&db, &["--workers", "0", "--max-queued", "3"]);
     let c = client();
     for _ in 0..3 {
         submit(&c, &s, &short_scene(0.01)).await;
@@ -230,7 +230,7 @@ async fn full_queue_answers_429_with_retry_after() {
 #[tokio::test]
 async fn queued_job_cancels_at_once_and_polling_is_cheap() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "0"]);
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
     let c = client();
     let id = submit(&c, &s, &short_scene(0.01)).await;
     let url = s.url(&format!("/v1/simulations/{id}"));
@@ -279,7 +279,7 @@ async fn queued_job_cancels_at_once_and_polling_is_cheap() {
 #[tokio::test]
 async fn listing_filters_by_state_and_pages_with_a_cursor() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "0"]);
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
     let c = client();
     let mut ids = vec![];
     for _ in 0..5 {
@@ -318,7 +318,7 @@ async fn listing_filters_by_state_and_pages_with_a_cursor() {
 #[tokio::test]
 async fn presets_and_operational_endpoints() {
     let (_dir, db) = temp_db();
-    let s = Server::start(
+    let s = TestApp::spawn(
         &db,
         &["--workers", "1", "--cors-origins", "http://lab.example"],
     );
@@ -429,7 +429,7 @@ fn synthetic_outer_fault(fs: f64, seconds: f64, bpfo: f64) -> Vec<f64> {
 #[tokio::test]
 async fn analyses_run_directly_or_as_queued_jobs() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "1"]);
+    let s = TestApp::spawn(&db, &["--workers", "1"]);
     let c = client();
     let fs = 12_000.0;
     let shaft_hz = 1797.0 / 60.0;
@@ -520,7 +520,7 @@ async fn analyses_run_directly_or_as_queued_jobs() {
 #[tokio::test]
 async fn long_poll_holds_an_unchanged_job_until_it_changes() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "0", "--request-timeout", "1"]);
+    let s = TestApp::spawn(&db, &["--workers", "0", "--request-timeout", "1"]);
     let c = client();
     let id = submit(&c, &s, &short_scene(0.01)).await;
     let url = s.url(&format!("/v1/simulations/{id}"));

@@ -13,7 +13,7 @@ const WORKERS: usize = 2;
 #[tokio::test(flavor = "multi_thread", worker_threads = 4)]
 async fn fifty_clients_two_hundred_jobs_each_completes_exactly_once() {
     let (_dir, db) = temp_db();
-    let s = Server::start(
+    let s = TestApp::spawn(
         &db,
         &["--workers", &WORKERS.to_string(), "--max-queued", "1000"],
     );

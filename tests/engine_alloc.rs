@@ -1,12 +1,11 @@
 //! The right-hand side and the stepping loop do not allocate: counted with a global
 //! allocator wrapper.
 
-use bearing_sim::dynamics::model::Model;
-use bearing_sim::dynamics::rhs::{rhs, Diagnostics};
-use bearing_sim::dynamics::run::initial_state;
-use bearing_sim::quasi_static::solve_model;
-use bearing_sim::scene::{fault_case_scene, FaultCase};
-use bearing_sim::simulation::{simulate, RunControl};
+use bearing_core::dynamics::rhs::{rhs, Diagnostics};
+use bearing_core::model::Model;
+use bearing_core::quasi_static::{initial_state, solve_model};
+use bearing_core::scene::{fault_case_scene, FaultCase};
+use bearing_core::simulation::{simulate, RunControl};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -34,7 +33,7 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn rhs_and_stepping_loop_do_not_allocate() {
     let scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
-    let m = Model::new(&scene);
+    let m = Model::new(&scene.validated().unwrap());
     let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
     let y = initial_state(&m, &qs);
     let mut dy = vec![0.0; y.len()];
@@ -52,7 +51,7 @@ fn rhs_and_stepping_loop_do_not_allocate() {
         s.solver.duration = duration;
         s.solver.sample_rate = 1000.0; // same sample count (3) for both durations
         let before = ALLOCS.load(Ordering::Relaxed);
-        let r = simulate(&s, RunControl::default()).unwrap();
+        let r = simulate(&s.validated().unwrap(), RunControl::default()).unwrap();
         (
             ALLOCS.load(Ordering::Relaxed) - before,
             r.summary.stats.accepted_steps,

@@ -1,18 +1,18 @@
 //! A ball driven across a raceway defect: contact-load drop and load-direction change
 //! (eqs. 33-36, Figure 8), for both rings.
 
-use bearing_sim::dynamics::model::Model;
-use bearing_sim::physics::race_contact::{race_contact, BallMotion, RingMotion};
-use bearing_sim::physics::Vector3;
-use bearing_sim::quasi_static::solve_model;
-use bearing_sim::scene::{fault_case_scene, FaultCase};
+use bearing_core::model::Model;
+use bearing_core::physics::race_contact::{race_contact, BallMotion, RingMotion};
+use bearing_core::physics::Vector3;
+use bearing_core::quasi_static::solve_model;
+use bearing_core::scene::{fault_case_scene, FaultCase};
 use nalgebra::Matrix3;
 
 /// Sweep the defect past ball 0 (at azimuth 0, the defect's home angle) by rotating the
 /// ring body; returns (offset along the race in m, load in N, tangential force on ball in N).
 fn sweep(case: FaultCase, inner: bool) -> Vec<(f64, f64, f64)> {
     let scene = fault_case_scene("h7005c", case).unwrap();
-    let m = Model::new(&scene);
+    let m = Model::new(&scene.validated().unwrap());
     let qs = solve_model(&m, 0.0).unwrap();
     let [x, r] = qs.balls[0];
     let ball = BallMotion {

@@ -1,13 +1,13 @@
 //! Quasi-static (Jones-Harris) solver against closed forms and equilibrium.
 
-use bearing_sim::dynamics::model::Model;
-use bearing_sim::quasi_static::solve;
-use bearing_sim::scene::preset_scene;
+use bearing_core::model::Model;
+use bearing_core::quasi_static::solve;
+use bearing_core::scene::preset_scene;
 
 #[test]
 fn zero_speed_solution_balances_the_applied_loads() {
     let scene = preset_scene("h7005c").unwrap();
-    let sol = solve(&scene, 0.0).unwrap();
+    let sol = solve(&scene.validated().unwrap(), 0.0).unwrap();
     let applied = (300f64.powi(2) + 100f64.powi(2)).sqrt();
     // The brief asks for 1e-6 relative; the solver's own ring-force residual is the
     // exact imbalance of the forces it computes.
@@ -39,8 +39,8 @@ fn pure_axial_load_matches_closed_form() {
     let mut scene = preset_scene("h7005c").unwrap();
     scene.operating.radial_load = 0.0;
     scene.operating.axial_load = 200.0;
-    let m = Model::new(&scene);
-    let sol = solve(&scene, 0.0).unwrap();
+    let m = Model::new(&scene.validated().unwrap());
+    let sol = solve(&scene.validated().unwrap(), 0.0).unwrap();
     // Closed form (Harris): each of Z balls carries Q = Fa / (Z sin a) through inner and
     // outer contacts in series, Q = Kn (B D)^1.5 (cos a0 / cos a - 1)^1.5, with
     // Kn = (Ki^-2/3 + Ko^-2/3)^-3/2 and B D the distance between curvature centres.
@@ -95,8 +95,8 @@ fn pure_axial_load_matches_closed_form() {
 #[test]
 fn speed_loads_the_outer_race_with_centrifugal_force() {
     let scene = preset_scene("h7005c").unwrap();
-    let slow = solve(&scene, 0.0).unwrap();
-    let fast = solve(&scene, 10_000.0).unwrap();
+    let slow = solve(&scene.validated().unwrap(), 0.0).unwrap();
+    let fast = solve(&scene.validated().unwrap(), 10_000.0).unwrap();
     // At 10000 rpm each ball carries a few newtons of centrifugal force (m dm/2 wc^2 ~ 2.5 N):
     // outer loads exceed inner loads and outer contact angles drop below inner ones.
     for b in fast.balls.iter().filter(|b| b.inner_load > 10.0) {
@@ -119,10 +119,10 @@ fn speed_loads_the_outer_race_with_centrifugal_force() {
 
 #[test]
 fn free_tilt_under_a_moment_tilts_the_ring_the_right_way() {
-    use bearing_sim::scene::TiltMode;
+    use bearing_core::scene::TiltMode;
     let mut scene = preset_scene("h7005c").unwrap();
     scene.operating.inner_ring_tilt = TiltMode::Free;
-    let level = solve(&scene, 0.0).unwrap();
+    let level = solve(&scene.validated().unwrap(), 0.0).unwrap();
     // A single angular contact bearing has little moment stiffness: a radial load through
     // the ring centre, off the bearing's pressure centre, tilts a free ring about Y (the
     // axis normal to the load) and, by symmetry of the load zone, not about Z.
@@ -132,7 +132,7 @@ fn free_tilt_under_a_moment_tilts_the_ring_the_right_way() {
         level.inner_ring_tilt
     );
     scene.operating.applied_moment = [0.5, 0.0];
-    let tilted = solve(&scene, 0.0).unwrap();
+    let tilted = solve(&scene.validated().unwrap(), 0.0).unwrap();
     // +0.5 N m about +Y must tilt the ring positively about Y
     assert!(
         tilted.inner_ring_tilt[0] > level.inner_ring_tilt[0],
@@ -145,7 +145,7 @@ fn free_tilt_under_a_moment_tilts_the_ring_the_right_way() {
 
 #[test]
 fn free_tilt_takes_moments_both_ways_up_to_its_limit() {
-    use bearing_sim::scene::TiltMode;
+    use bearing_core::scene::TiltMode;
     let mut scene = preset_scene("h7005c").unwrap();
     scene.operating.inner_ring_tilt = TiltMode::Free;
     let mut last = f64::INFINITY;
@@ -153,7 +153,7 @@ fn free_tilt_takes_moments_both_ways_up_to_its_limit() {
     // continuation in the moment (a direct solve from the rigid guess stalls there).
     for mo in [0.0, -0.5, -1.0, -2.0] {
         scene.operating.applied_moment = [mo, 0.0];
-        let s = solve(&scene, 0.0).unwrap_or_else(|e| panic!("{mo} N m: {e}"));
+        let s = solve(&scene.validated().unwrap(), 0.0).unwrap_or_else(|e| panic!("{mo} N m: {e}"));
         assert!(
             s.inner_ring_tilt[0] < last,
             "{mo} N m: {:?}",
@@ -171,9 +171,16 @@ fn free_tilt_takes_moments_both_ways_up_to_its_limit() {
     // +1.67 N m about Y (1.65 N m still solves, tilting it to +3.4e-3 rad); beyond that
     // there is no equilibrium, and the error says so and how far it got.
     scene.operating.applied_moment = [1.65, 0.0];
-    assert!(solve(&scene, 0.0).unwrap().inner_ring_tilt[0] > 0.0);
+    assert!(
+        solve(&scene.validated().unwrap(), 0.0)
+            .unwrap()
+            .inner_ring_tilt[0]
+            > 0.0
+    );
     scene.operating.applied_moment = [2.0, 0.0];
-    let err = solve(&scene, 0.0).unwrap_err().to_string();
+    let err = solve(&scene.validated().unwrap(), 0.0)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("carries a moment only up to a limit"), "{err}");
     // about 1.67 of the 2 N m (continuation fractions are multiples of 1/256)
     let pct: f64 = err

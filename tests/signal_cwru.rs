@@ -10,7 +10,7 @@
 
 mod common;
 
-use bearing_sim::signal::{
+use bearing_core::signal::{
     analyze, kinematic_preset, AnalysisOptions, AnalysisReport, Identification,
 };
 

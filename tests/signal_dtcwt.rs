@@ -2,7 +2,7 @@
 //! `scripts/gen_signal_fixtures.py`; the L4 cases are the shared reference inputs), sum of
 //! components, and perfect reconstruction on random lengths and level counts.
 
-use bearing_sim::signal::dtcwt::{Dtcwt1d, Pyramid};
+use bearing_core::signal::dtcwt::{Dtcwt1d, Pyramid};
 use proptest::prelude::*;
 use std::path::PathBuf;
 
@@ -92,7 +92,7 @@ fn check_golden(case: &str, biort: &str, qshift: &str) {
     // the components agree to ~1e-15, kurtosis is a smooth ratio of moments.
     for k in 1..=levels {
         let want = s["kurtosis_pearson"][k - 1].as_f64().unwrap();
-        let got = bearing_sim::signal::kurtosis::kurtosis(&comps.levels[k - 1]);
+        let got = bearing_core::signal::kurtosis::kurtosis(&comps.levels[k - 1]);
         assert!(
             ((got - want) / want).abs() < 1e-9,
             "{case}: level {k} kurtosis {got} vs {want}"
@@ -143,7 +143,7 @@ proptest! {
     /// level counts with the default filters. 1e-12 absolute on values in [-1, 1]: see above.
     #[test]
     fn perfect_reconstruction(levels in 1usize..=7, extra in 0usize..600, seed in any::<u64>()) {
-        let n = bearing_sim::signal::dtcwt::min_length(levels) + extra;
+        let n = bearing_core::signal::dtcwt::min_length(levels) + extra;
         let mut s = seed | 1;
         let x: Vec<f64> = (0..n).map(|_| {
             s ^= s << 13; s ^= s >> 7; s ^= s << 17;

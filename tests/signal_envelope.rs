@@ -1,7 +1,7 @@
 //! Envelope of a known amplitude-modulated tone, and the envelope-spectrum scaling.
 
-use bearing_sim::signal::hilbert::{envelope, HilbertPlan};
-use bearing_sim::signal::spectrum::envelope_spectrum;
+use bearing_core::signal::hilbert::{envelope, HilbertPlan};
+use bearing_core::signal::spectrum::envelope_spectrum;
 use std::f64::consts::PI;
 
 #[test]

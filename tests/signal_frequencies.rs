@@ -1,8 +1,8 @@
 //! Characteristic frequencies against the paper (eq. 37, H7005C at 10000 rpm) and the scene
 //! geometry convention d_m = (bore + OD) / 2.
 
-use bearing_sim::scene::preset_scene;
-use bearing_sim::signal::{characteristic_frequencies, kinematic_preset, KinematicGeometry};
+use bearing_core::scene::preset_scene;
+use bearing_core::signal::{characteristic_frequencies, kinematic_preset, KinematicGeometry};
 
 #[test]
 fn h7005c_from_the_scene_gives_the_papers_frequencies() {

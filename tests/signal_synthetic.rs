@@ -19,8 +19,8 @@
 
 mod common;
 
-use bearing_sim::signal::kurtosis::kurtosis;
-use bearing_sim::signal::{
+use bearing_core::signal::kurtosis::kurtosis;
+use bearing_core::signal::{
     analyze, characteristic_frequencies, kinematic_preset, AnalysisOptions, AnalysisReport,
 };
 use common::{add_noise, impulse_train, Rng};

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 #[tokio::test]
 async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "2"]);
+    let s = TestApp::spawn(&db, &["--workers", "2"]);
     let c = client();
     let id = submit(&c, &s, &steady_scene(0.03)).await;
     let job = wait_finished(&c, &s, &id, Duration::from_secs(120)).await;
@@ -130,6 +130,43 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
         "{sp}"
     );
 
+    // markers: as many harmonics of each line as asked for (default: the analysis' own 3),
+    // every one below fmax = 20 kHz here (the largest line, BPFI, is ~1.5 kHz)
+    let count_per_line = |sp: &serde_json::Value| {
+        let mut n = std::collections::BTreeMap::<String, u64>::new();
+        for m in sp["markers"].as_array().unwrap() {
+            *n.entry(m["name"].as_str().unwrap().to_string())
+                .or_default() += 1;
+            assert_eq!(
+                m["frequency"].as_f64().unwrap(),
+                m["harmonic"].as_f64().unwrap()
+                    * analysis["theory"][m["name"].as_str().unwrap()]
+                        .as_f64()
+                        .unwrap_or_else(|| analysis["theory"]["shaft_hz"].as_f64().unwrap()),
+                "{m}"
+            );
+        }
+        n
+    };
+    for (q, want) in [("", 3), ("&harmonics=5", 5), ("&harmonics=1", 1)] {
+        let (st, _, sp) = get_json(
+            &c,
+            &s.url(&format!("/v1/simulations/{id}/spectra?fmax=20000{q}")),
+        )
+        .await;
+        assert_eq!(st, 200, "{sp}");
+        let n = count_per_line(&sp);
+        for line in ["bpfo", "bpfi", "ftf", "bsf", "bsf2", "shaft"] {
+            assert_eq!(n.get(line), Some(&want), "{line} with '{q}': {n:?}");
+        }
+    }
+    let (st, h, p) = get_json(
+        &c,
+        &s.url(&format!("/v1/simulations/{id}/spectra?harmonics=0")),
+    )
+    .await;
+    assert_problem(st, &h, &p, 400);
+
     // a finished job still answers 304 to its ETag, and can be deleted
     let url = s.url(&format!("/v1/simulations/{id}"));
     let etag = c.get(&url).send().await.unwrap().headers()["etag"]
@@ -157,7 +194,7 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
 #[tokio::test]
 async fn running_job_stops_soon_after_cancel() {
     let (_dir, db) = temp_db();
-    let s = Server::start(&db, &["--workers", "1"]);
+    let s = TestApp::spawn(&db, &["--workers", "1"]);
     let c = client();
     let id = submit(&c, &s, &short_scene(2.0)).await;
     wait_until(&c, &s, &id, Duration::from_secs(60), |j| {
@@ -189,6 +226,7 @@ async fn running_job_stops_soon_after_cancel() {
 #[tokio::test]
 async fn graceful_shutdown_requeues_the_running_job() {
     let (_dir, db) = temp_db();
+    // a real process: this is about SIGTERM
     let mut s = Server::start(&db, &["--workers", "1"]);
     let c = client();
     let id = submit(&c, &s, &short_scene(2.0)).await;
@@ -199,7 +237,7 @@ async fn graceful_shutdown_requeues_the_running_job() {
     let status = s.terminate();
     assert!(status.success(), "{status}\n{}", s.log());
     // API-only restart: the job is back in the queue, its attempt not counted
-    let s = Server::start(&db, &["--workers", "0"]);
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
     let (_, _, job) = get_json(&c, &s.url(&format!("/v1/simulations/{id}"))).await;
     assert_eq!(job["state"], "queued", "{job}");
     assert_eq!(job["attempt"], 0, "{job}");

@@ -4,23 +4,27 @@
 
 use super::direct::run_direct;
 use super::extract::{as_object, content_type, from_value, parse_value, QueryParams};
-use super::jobs::enqueue;
+use super::job_resource;
 use super::problem::{ApiResult, FieldProblem, Problem};
-use super::AppState;
+use super::results;
+use super::state::AppState;
+use super::submission::enqueue;
 use crate::jobs::{run_analysis, AnalysisInput};
 use crate::store::blob::encode_f64le;
 use crate::store::JobKind;
 use axum::body::Bytes;
-use axum::extract::{RawQuery, State};
+use axum::extract::{Path, RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_sim::signal::analysis::AnalysisOptions;
-use bearing_sim::signal::frequencies::{
+use bearing_core::signal::analysis::AnalysisOptions;
+use bearing_core::signal::frequencies::{
     kinematic_preset, kinematic_preset_names, KinematicGeometry,
 };
 use serde::Deserialize;
 use serde_json::json;
+
+const KIND: JobKind = JobKind::Analysis;
 
 /// The JSON form of a request.
 #[derive(Deserialize)]
@@ -71,7 +75,7 @@ pub async fn submit(
         return enqueue(
             &state,
             &headers,
-            JobKind::Analysis,
+            KIND,
             label,
             value,
             Some(encode_f64le(&samples)),
@@ -83,15 +87,14 @@ pub async fn submit(
         run_analysis(&input, &samples)
     })
     .await?;
-    let run = run.map_err(|m| {
+    let out = run.map_err(|e| {
         Problem::new(
             StatusCode::UNPROCESSABLE_ENTITY,
             Some("analysis-failed"),
             "The signal cannot be analysed",
-            m,
+            e.to_string(),
         )
     })?;
-    let out = &run.output;
     let best = out.report.best_component.level;
     Ok(Json(json!({
         "state": "succeeded",
@@ -292,4 +295,37 @@ fn check(input: &AnalysisInput, samples: &[f64]) -> ApiResult<()> {
     } else {
         Err(Problem::validation(errs))
     }
+}
+
+pub async fn get(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    headers: HeaderMap,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
+    job_resource::get_job(s, KIND, id, headers, q).await
+}
+
+pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+    job_resource::list(s, KIND, q).await
+}
+
+pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::cancel(s, KIND, id).await
+}
+
+pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::delete(s, KIND, id).await
+}
+
+pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    results::result(s, KIND, id).await
+}
+
+pub async fn spectra(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
+    results::spectra(s, KIND, id, q).await
 }

@@ -2,7 +2,7 @@
 //! semaphore, with a panic answered as a problem instead of taking the process down.
 
 use super::problem::Problem;
-use super::AppState;
+use super::state::AppState;
 
 /// Run `f` on a blocking thread under one `direct` permit. `what` names the computation
 /// in error messages ("the quasi-static solver", "the analysis").

@@ -1,7 +1,7 @@
 //! Middleware: problem+json for errors produced outside handlers, latency metrics.
 
 use super::problem::{Problem, PROBLEM_JSON};
-use super::AppState;
+use super::state::AppState;
 use axum::extract::{MatchedPath, Request, State};
 use axum::http::{header, StatusCode};
 use axum::middleware::Next;

@@ -1,7 +1,7 @@
 //! Operational endpoints: health, readiness, metrics, the OpenAPI document, 404 fallback.
 
 use super::problem::{ApiResult, Problem};
-use super::AppState;
+use super::state::AppState;
 use crate::store::JobState;
 use axum::extract::State;
 use axum::http::{header, Uri};

@@ -5,8 +5,8 @@ use super::problem::{ApiResult, Problem};
 use axum::extract::Path;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_sim::scene::{fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase};
-use bearing_sim::signal::frequencies::{
+use bearing_core::scene::{fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase};
+use bearing_core::signal::frequencies::{
     kinematic_preset, kinematic_preset_names, KinematicGeometry,
 };
 use serde_json::{json, Value};

@@ -4,7 +4,7 @@ use crate::store::StoreError;
 use axum::body::Body;
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
-use bearing_sim::scene::{FieldError, ValidationErrors};
+use bearing_core::scene::{FieldError, ValidationErrors};
 use serde::Serialize;
 
 pub const PROBLEM_JSON: &str = "application/problem+json";

@@ -4,13 +4,12 @@ use super::direct::run_direct;
 use super::extract::{as_object, from_value, parse_value, require_json};
 use super::problem::{ApiResult, Problem};
 use super::scene_input::resolve_scene;
-use super::AppState;
+use super::state::AppState;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_sim::simulation::SimError;
 
 pub async fn solve(
     State(state): State<AppState>,
@@ -32,12 +31,11 @@ pub async fn solve(
         ));
     }
     let solved = run_direct(&state, "the quasi-static solver", move || {
-        bearing_sim::quasi_static::solve(&scene, rpm)
+        bearing_core::quasi_static::solve(&scene, rpm)
     })
     .await?;
     match solved {
         Ok(solution) => Ok((StatusCode::OK, Json(solution)).into_response()),
-        Err(SimError::Invalid(e)) => Err(Problem::scene_invalid("scene", &e)),
         Err(e) => Err(Problem::new(
             StatusCode::UNPROCESSABLE_ENTITY,
             Some("solver-failed"),

@@ -1,7 +1,8 @@
 //! The single route table: the router is built from it and a test checks that
 //! `openapi.yaml` documents exactly these paths and methods.
 
-use super::{analyses, jobs, ops, presets, quasi_static, simulations, AppState};
+use super::state::AppState;
+use super::{analyses, ops, presets, quasi_static, simulations};
 use axum::handler::Handler;
 use axum::routing::{on, MethodFilter, MethodRouter};
 
@@ -37,38 +38,26 @@ fn r<H: Handler<T, AppState>, T: 'static>(
 pub fn table() -> Vec<RouteDef> {
     vec![
         r("post", "/v1/simulations", simulations::submit),
-        r("get", "/v1/simulations", jobs::list_simulations),
+        r("get", "/v1/simulations", simulations::list),
         RouteDef {
             long_poll: true,
-            ..r("get", "/v1/simulations/{id}", jobs::get_simulation)
+            ..r("get", "/v1/simulations/{id}", simulations::get)
         },
-        r("delete", "/v1/simulations/{id}", jobs::delete_simulation),
-        r(
-            "post",
-            "/v1/simulations/{id}/cancel",
-            jobs::cancel_simulation,
-        ),
-        r(
-            "get",
-            "/v1/simulations/{id}/result",
-            jobs::simulation_result,
-        ),
+        r("delete", "/v1/simulations/{id}", simulations::delete),
+        r("post", "/v1/simulations/{id}/cancel", simulations::cancel),
+        r("get", "/v1/simulations/{id}/result", simulations::result),
         r("get", "/v1/simulations/{id}/signals", simulations::signals),
-        r(
-            "get",
-            "/v1/simulations/{id}/spectra",
-            jobs::simulation_spectra,
-        ),
+        r("get", "/v1/simulations/{id}/spectra", simulations::spectra),
         r("post", "/v1/analyses", analyses::submit),
-        r("get", "/v1/analyses", jobs::list_analyses),
+        r("get", "/v1/analyses", analyses::list),
         RouteDef {
             long_poll: true,
-            ..r("get", "/v1/analyses/{id}", jobs::get_analysis)
+            ..r("get", "/v1/analyses/{id}", analyses::get)
         },
-        r("delete", "/v1/analyses/{id}", jobs::delete_analysis),
-        r("post", "/v1/analyses/{id}/cancel", jobs::cancel_analysis),
-        r("get", "/v1/analyses/{id}/result", jobs::analysis_result),
-        r("get", "/v1/analyses/{id}/spectra", jobs::analysis_spectra),
+        r("delete", "/v1/analyses/{id}", analyses::delete),
+        r("post", "/v1/analyses/{id}/cancel", analyses::cancel),
+        r("get", "/v1/analyses/{id}/result", analyses::result),
+        r("get", "/v1/analyses/{id}/spectra", analyses::spectra),
         r("post", "/v1/quasi-static", quasi_static::solve),
         r("get", "/v1/presets", presets::list),
         r("get", "/v1/presets/{name}", presets::get),

@@ -4,12 +4,13 @@
 use super::extract::{from_value, kind_of};
 use super::merge_patch::merge_patch;
 use super::problem::{FieldProblem, Problem};
-use bearing_sim::scene::{fault_case_scene, preset_names, FaultCase, Scene};
+use bearing_core::scene::{fault_case_scene, preset_names, FaultCase, Scene, ValidScene};
 use serde_json::{Map, Value};
 
-/// Resolve and validate the scene of a request body. `extra` lists the other top-level
-/// members the endpoint accepts; any member not known is a 422.
-pub fn resolve_scene(body: &mut Map<String, Value>, extra: &[&str]) -> Result<Scene, Problem> {
+/// Resolve and validate the scene of a request body (the one validation a request gets).
+/// `extra` lists the other top-level members the endpoint accepts; any member not known
+/// is a 422.
+pub fn resolve_scene(body: &mut Map<String, Value>, extra: &[&str]) -> Result<ValidScene, Problem> {
     let known = ["scene", "preset", "fault_case", "overrides"];
     let mut errors: Vec<FieldProblem> = body
         .keys()
@@ -71,10 +72,7 @@ pub fn resolve_scene(body: &mut Map<String, Value>, extra: &[&str]) -> Result<Sc
         ));
     }
     let scene: Scene = from_value(scene_value, "scene")?;
-    scene
-        .validate()
-        .map_err(|e| Problem::scene_invalid("scene", &e))?;
-    Ok(scene)
+    ValidScene::new(scene).map_err(|e| Problem::scene_invalid("scene", &e))
 }
 
 fn preset_value(

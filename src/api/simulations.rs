@@ -1,22 +1,27 @@
-//! Submitting simulations and reading their sampled channels.
+//! `/v1/simulations`: submit a scene, follow the job, read its result, signals and spectra.
 
 use super::extract::{as_object, parse_value, require_json, QueryParams};
-use super::jobs::{enqueue, succeeded};
+use super::job_resource::{self, succeeded};
 use super::problem::{ApiResult, Problem};
+use super::results;
 use super::scene_input::resolve_scene;
-use super::AppState;
+use super::state::AppState;
+use super::submission::enqueue;
+use crate::jobs::artifacts::channel_artifact_name;
 use crate::store::blob::decode_f32le;
-use crate::store::JobKind;
+use crate::store::{ArtifactMeta, JobKind};
 use axum::body::Bytes;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde_json::{json, Value};
+use serde_json::json;
 
 /// Default and largest number of points returned by `signals`.
 const DEFAULT_POINTS: usize = 10_000;
 const MAX_POINTS: usize = 1_000_000;
+
+const KIND: JobKind = JobKind::Simulation;
 
 pub async fn submit(
     State(state): State<AppState>,
@@ -27,15 +32,7 @@ pub async fn submit(
     let mut body = as_object(parse_value(&body)?)?;
     let scene = resolve_scene(&mut body, &[])?;
     let input = serde_json::to_value(&scene).map_err(|e| Problem::internal(e.to_string()))?;
-    enqueue(
-        &state,
-        &headers,
-        JobKind::Simulation,
-        scene.name.clone(),
-        input,
-        None,
-    )
-    .await
+    enqueue(&state, &headers, KIND, scene.name.clone(), input, None).await
 }
 
 pub async fn signals(
@@ -60,27 +57,28 @@ pub async fn signals(
             "query parameter 'max_points' must be in 1..={MAX_POINTS}"
         )));
     }
-    succeeded(&state, JobKind::Simulation, &id).await?;
+    succeeded(&state, KIND, &id).await?;
     let Some(a) = state
         .store
-        .get_artifact(&id, &format!("channel:{channel}"))
+        .get_artifact(&id, &channel_artifact_name(&channel))
         .await?
     else {
         return Err(Problem::not_found(format!(
             "simulation {id} has no channel '{channel}'"
         )));
     };
-    let fs = a
-        .meta
-        .get("sample_rate")
-        .and_then(Value::as_f64)
-        .unwrap_or(1.0);
-    let t0 = a
-        .meta
-        .get("start_time")
-        .and_then(Value::as_f64)
-        .unwrap_or(0.0);
-    let unit = a.meta.get("unit").cloned().unwrap_or(Value::Null);
+    let ArtifactMeta::Channel {
+        sample_rate: fs,
+        start_time: t0,
+        unit,
+        ..
+    } = a.meta
+    else {
+        return Err(Problem::internal(format!(
+            "artifact {} of simulation {id} is not a channel",
+            a.name
+        )));
+    };
     let data = decode_f32le(&a.data);
     let n = data.len();
     // Sample k is at t0 + k / fs; the window keeps samples with from <= t <= to.
@@ -108,4 +106,37 @@ pub async fn signals(
         "data": values,
     }))
     .into_response())
+}
+
+pub async fn get(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    headers: HeaderMap,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
+    job_resource::get_job(s, KIND, id, headers, q).await
+}
+
+pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+    job_resource::list(s, KIND, q).await
+}
+
+pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::cancel(s, KIND, id).await
+}
+
+pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::delete(s, KIND, id).await
+}
+
+pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+    results::result(s, KIND, id).await
+}
+
+pub async fn spectra(
+    State(s): State<AppState>,
+    Path(id): Path<String>,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
+    results::spectra(s, KIND, id, q).await
 }

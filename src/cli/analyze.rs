@@ -4,13 +4,13 @@
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use bearing_sim::signal::io::{read_signal, SignalFormat};
-use bearing_sim::signal::{
+use bearing_core::signal::io::{read_signal, SignalFormat};
+use bearing_core::signal::{
     analyze, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
 };
 use serde::{Deserialize, Serialize};
 
-use super::CliResult;
+use super::result::CliResult;
 
 #[derive(clap::Args, Debug)]
 pub struct AnalyzeArgs {
@@ -46,7 +46,7 @@ pub struct AnalyzeArgs {
     #[arg(long, default_value_t = 3)]
     pub harmonics: usize,
     /// Detection threshold on the prominence, dB.
-    #[arg(long, default_value_t = bearing_sim::signal::identify::DEFAULT_THRESHOLD_DB)]
+    #[arg(long, default_value_t = bearing_core::signal::identify::DEFAULT_THRESHOLD_DB)]
     pub threshold_db: f64,
     /// Level-1 wavelet filter set.
     #[arg(long, default_value = "near_sym_b")]
@@ -121,9 +121,9 @@ fn load_bearing(spec: &str) -> Result<KinematicGeometry, String> {
 
 #[derive(Serialize)]
 struct SpectraFile<'a> {
-    raw: &'a bearing_sim::signal::Spectrum,
+    raw: &'a bearing_core::signal::Spectrum,
     /// index 0 = level 1
-    levels: &'a [bearing_sim::signal::Spectrum],
+    levels: &'a [bearing_core::signal::Spectrum],
 }
 
 pub fn main(args: AnalyzeArgs) -> CliResult {

@@ -4,9 +4,10 @@
 //! and solver statistics; `bench work-precision` runs one scene at several tolerances
 //! and reports run time against error relative to a tight reference.
 
-use super::CliResult;
-use bearing_sim::scene::{fault_case_scene, FaultCase, Integrator, Scene};
-use bearing_sim::simulation::{simulate, RunControl, SimResult};
+use super::result::CliResult;
+use bearing_core::scene::{fault_case_scene, FaultCase, Integrator, ValidScene};
+use bearing_core::simulation::{simulate, RunControl, SimResult};
+use bearing_core::simulation_analysis::steady_band_rms;
 
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
@@ -54,7 +55,7 @@ fn cases(duration: f64) -> CliResult {
     ] {
         let mut s = fault_case_scene("h7005c", case).expect("preset");
         s.solver.duration = duration;
-        let r = simulate(&s, RunControl::default())?;
+        let r = simulate(&s.validated()?, RunControl::default())?;
         let st = &r.summary.stats;
         let finite = r
             .channels
@@ -79,29 +80,29 @@ fn cases(duration: f64) -> CliResult {
     Ok(())
 }
 
-fn scene(duration: f64, tol: f64) -> Scene {
+fn scene(duration: f64, tol: f64) -> ValidScene {
     let mut s = fault_case_scene("h7005c", FaultCase::Compound).expect("preset");
     s.operating.speed.initial_rpm = 10_000.0;
     s.operating.speed.ramp_time = 0.0;
     s.solver.duration = duration;
     s.solver.rtol = tol;
     s.solver.atol = tol;
-    s
+    s.validated().expect("the preset with a tolerance is valid")
 }
 
 /// RMS of the pedestal Z acceleration below 20 kHz over the steady window, m/s^2.
 fn band_rms(r: &SimResult) -> f64 {
-    r.steady_band_rms("outer_ring_accel_z", 20e3)
-        .expect("always recorded")
+    steady_band_rms(r, "outer_ring_accel_z", 20e3).expect("always recorded")
 }
 
 fn work_precision(duration: f64, tolerances: &[f64]) -> CliResult {
     let tightest = tolerances.iter().cloned().fold(f64::INFINITY, f64::min);
     eprintln!("reference: adaptive at {:.0e}", tightest / 100.0);
     let reference = simulate(&scene(duration, tightest / 100.0), RunControl::default())?;
-    let mut fixed = scene(duration, 1e-6);
+    let mut fixed = scene(duration, 1e-6).into_scene();
     fixed.solver.integrator = Integrator::Rk4Fixed;
     fixed.solver.initial_step = 1e-6;
+    let fixed = fixed.validated()?;
     eprintln!("second method: fixed-step RK4 at 1 us");
     let check = simulate(&fixed, RunControl::default())?;
     let (c_ref, r_ref) = (reference.summary.mean_cage_speed, band_rms(&reference));

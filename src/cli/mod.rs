@@ -1,11 +1,14 @@
-//! Command-line subcommands (synchronous; they call the library directly).
+//! Command-line subcommands (synchronous, except `serve`, which starts its own runtime).
 
 pub mod analyze;
 pub mod bench;
+mod command;
 pub mod quasi_static;
+mod result;
 pub mod run;
 pub mod scene_arg;
 pub mod scene_cmd;
+pub mod serve_cmd;
 
-/// Error type of the CLI: a message for the user.
-pub type CliResult = Result<(), Box<dyn std::error::Error>>;
+pub use command::Cli;
+pub use result::CliResult;

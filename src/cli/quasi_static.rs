@@ -1,7 +1,7 @@
 //! `bearing-sim quasi-static SCENE`: the Jones-Harris equilibrium as JSON.
 
+use super::result::CliResult;
 use super::scene_arg::load_scene;
-use super::CliResult;
 
 #[derive(clap::Args, Debug)]
 pub struct QuasiStaticArgs {
@@ -13,9 +13,9 @@ pub struct QuasiStaticArgs {
 }
 
 pub fn main(args: QuasiStaticArgs) -> CliResult {
-    let scene = load_scene(&args.scene, None)?;
+    let scene = load_scene(&args.scene, None)?.validated()?;
     let rpm = args.rpm.unwrap_or(scene.operating.speed.steady_rpm);
-    let sol = bearing_sim::quasi_static::solve(&scene, rpm)?;
+    let sol = bearing_core::quasi_static::solve(&scene, rpm)?;
     println!("{}", serde_json::to_string_pretty(&sol)?);
     Ok(())
 }

@@ -1,9 +1,9 @@
 //! `bearing-sim run SCENE [--fault ...] [--duration S] --out FILE`.
 
+use super::result::CliResult;
 use super::scene_arg::load_scene;
-use super::CliResult;
-use bearing_sim::scene::FaultCase;
-use bearing_sim::simulation::{simulate, RunControl};
+use bearing_core::scene::FaultCase;
+use bearing_core::simulation::{simulate, RunControl};
 use indicatif::{ProgressBar, ProgressStyle};
 
 #[derive(clap::Args, Debug)]
@@ -40,7 +40,7 @@ pub fn main(args: RunArgs) -> CliResult {
     if args.contact_loads_ball.is_some() {
         scene.outputs.contact_loads_ball = args.contact_loads_ball;
     }
-    scene.validate()?;
+    let scene = scene.validated()?;
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {msg}")

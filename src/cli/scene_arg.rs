@@ -1,8 +1,9 @@
 //! Resolving the SCENE argument: a scene file or a preset name.
 
-use bearing_sim::scene::{fault_case_scene, preset_names, FaultCase, Scene};
+use bearing_core::scene::{fault_case_scene, preset_names, FaultCase, Scene, ValidScene};
 
-/// Load a scene from a JSON file, or build a preset (with `fault` applied) by name.
+/// Load a scene from a JSON file, or build a preset (with `fault` applied) by name. The
+/// caller may still edit it; it is validated once more when it is made a `ValidScene`.
 pub fn load_scene(
     arg: &str,
     fault: Option<FaultCase>,
@@ -16,7 +17,9 @@ pub fn load_scene(
             preset_names().join(", ")
         )
     })?;
-    let mut scene = Scene::from_json(&text).map_err(|e| format!("{arg}: {e}"))?;
+    let mut scene = ValidScene::from_json(&text)
+        .map_err(|e| format!("{arg}: {e}"))?
+        .into_scene();
     if let Some(f) = fault {
         if f != FaultCase::None || !scene.faults.is_empty() {
             return Err(

@@ -1,8 +1,8 @@
 //! `bearing-sim scene PRESET [--fault CASE]`: print a preset scene as JSON, to edit and run.
 
+use super::result::CliResult;
 use super::scene_arg::load_scene;
-use super::CliResult;
-use bearing_sim::scene::FaultCase;
+use bearing_core::scene::FaultCase;
 
 #[derive(clap::Args, Debug)]
 pub struct SceneArgs {

@@ -5,91 +5,16 @@
 //! Concurrency is bounded by construction: `workers` async loops, each awaiting at most
 //! one blocking task, so at most `workers` engine runs exist per process.
 
-mod analysis_job;
-mod execute;
-mod postprocess;
+pub mod analysis_job;
+pub mod artifacts;
+pub mod control;
+mod env;
+pub mod outcome;
+mod pool;
+pub mod record;
 mod runner;
+pub mod simulation_job;
 
 pub use analysis_job::{run_analysis, AnalysisInput};
-
-use crate::config::Config;
-use crate::metrics::Metrics;
-use crate::store::Store;
-use std::sync::Arc;
-use std::time::Duration;
-use tokio::sync::{watch, Notify};
-use tokio::task::JoinHandle;
-
-/// Handle on the running workers and the lease-recovery task.
-pub struct WorkerPool {
-    shutdown: watch::Sender<bool>,
-    workers: Vec<JoinHandle<()>>,
-    recovery: JoinHandle<()>,
-}
-
-/// What every worker shares.
-#[derive(Clone)]
-pub struct WorkerEnv {
-    pub store: Arc<dyn Store>,
-    pub config: Arc<Config>,
-    pub metrics: Arc<Metrics>,
-    /// Poked by submissions so an idle worker claims at once instead of at its next poll.
-    pub wake: Arc<Notify>,
-}
-
-impl WorkerPool {
-    pub fn start(env: WorkerEnv) -> WorkerPool {
-        let (tx, rx) = watch::channel(false);
-        // One id per process; leases name it so a restarted process never matches a stale lease.
-        let process = uuid::Uuid::new_v4().simple().to_string();
-        let workers = (0..env.config.worker_count())
-            .map(|i| {
-                let env = env.clone();
-                let rx = rx.clone();
-                let owner = format!("{}-{}-w{i}", std::process::id(), &process[..12]);
-                tokio::spawn(runner::worker_loop(env, owner, rx))
-            })
-            .collect();
-        let recovery = tokio::spawn(recovery_loop(env, rx));
-        WorkerPool {
-            shutdown: tx,
-            workers,
-            recovery,
-        }
-    }
-
-    /// Stop claiming; running jobs are cancelled and requeued. Waits up to `grace`.
-    pub async fn shutdown(self, grace: Duration) {
-        let _ = self.shutdown.send(true);
-        let all = futures_join_all(self.workers);
-        if tokio::time::timeout(grace, all).await.is_err() {
-            tracing::warn!("workers did not stop within {grace:?}; their leases will expire and requeue the jobs");
-        }
-        self.recovery.abort();
-    }
-}
-
-async fn futures_join_all(handles: Vec<JoinHandle<()>>) {
-    for h in handles {
-        let _ = h.await;
-    }
-}
-
-/// Requeue jobs whose worker died (lease expired), at start and then periodically.
-async fn recovery_loop(env: WorkerEnv, mut shutdown: watch::Receiver<bool>) {
-    let period = Duration::from_millis((env.config.lease_ms() / 2).clamp(100, 5000) as u64);
-    loop {
-        match env.store.recover_expired(env.config.max_attempts).await {
-            Ok(0) => {}
-            Ok(n) => {
-                tracing::info!(jobs = n, "recovered jobs with expired leases");
-                env.wake.notify_waiters();
-            }
-            Err(e) => tracing::warn!(error = %e, "lease recovery failed"),
-        }
-        tokio::select! {
-            _ = tokio::time::sleep(period) => {}
-            _ = shutdown.changed() => return,
-        }
-    }
-}
+pub use env::WorkerEnv;
+pub use pool::WorkerPool;

@@ -1,8 +1,10 @@
 //! One worker: claim, run on a blocking thread, heartbeat, record the outcome.
 
-use super::execute::{execute, Control, JobFailure, JobOutput};
-use super::WorkerEnv;
-use crate::store::{Claimed, JobError, Outcome, StoreError};
+use super::control::Control;
+use super::env::WorkerEnv;
+use super::outcome::{JobFailure, JobOutput};
+use super::{analysis_job, simulation_job};
+use crate::store::{Claimed, FailureKind, JobError, JobKind, Outcome, StoreError};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -65,7 +67,7 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
     let ending = loop {
         tokio::select! {
             joined = &mut task => {
-                break Ending::Finished(joined.unwrap_or_else(|e| Err(JobFailure::new("panic", format!("worker task failed: {e}")))));
+                break Ending::Finished(joined.unwrap_or_else(|e| Err(JobFailure::new(FailureKind::Panic, format!("worker task failed: {e}")))));
             }
             _ = ticker.tick() => {
                 match env.store.heartbeat(&lease, ctl.progress(), env.config.lease_ms()).await {
@@ -106,7 +108,7 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
             "cancelled",
             Some(Outcome::Cancelled {
                 error: JobError {
-                    kind: f.kind.into(),
+                    kind: f.kind,
                     message: f.message,
                 },
             }),
@@ -115,7 +117,7 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
             "failed",
             Some(Outcome::Failed {
                 error: JobError {
-                    kind: f.kind.into(),
+                    kind: f.kind,
                     message: f.message,
                 },
                 stats: f.stats,
@@ -142,10 +144,20 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
     }
 }
 
+/// Run a claimed job's blocking part.
+fn execute(job: &Claimed, ctl: &Control) -> Result<JobOutput, JobFailure> {
+    match job.kind {
+        JobKind::Simulation => simulation_job::execute(&job.input, ctl),
+        JobKind::Analysis => {
+            analysis_job::execute(&job.input, job.input_blob.as_deref().unwrap_or(&[]), ctl)
+        }
+    }
+}
+
 /// A panic in the engine fails this job with its message, not the process.
 fn guarded(run: impl FnOnce() -> Result<JobOutput, JobFailure>) -> Result<JobOutput, JobFailure> {
     catch_unwind(AssertUnwindSafe(run))
-        .unwrap_or_else(|p| Err(JobFailure::new("panic", panic_message(&p))))
+        .unwrap_or_else(|p| Err(JobFailure::new(FailureKind::Panic, panic_message(&p))))
 }
 
 fn panic_message(p: &Box<dyn std::any::Any + Send>) -> String {
@@ -165,9 +177,9 @@ mod tests {
     fn a_panic_becomes_the_jobs_failure() {
         let r = guarded(|| panic!("index 7 out of range"));
         let f = r.err().unwrap();
-        assert_eq!(f.kind, "panic");
+        assert_eq!(f.kind, FailureKind::Panic);
         assert!(f.message.contains("index 7 out of range"), "{}", f.message);
         let r = guarded(|| std::panic::panic_any(42_u8));
-        assert_eq!(r.err().unwrap().kind, "panic");
+        assert_eq!(r.err().unwrap().kind, FailureKind::Panic);
     }
 }

@@ -73,11 +73,47 @@ impl JobKind {
     }
 }
 
+/// What kind of failure ended a job.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FailureKind {
+    /// The stored input did not parse or validate.
+    Invalid,
+    /// The solver failed: no quasi-static start, step-size underflow, a non-finite state.
+    Numerical,
+    /// The engine panicked (a bug); the process survived.
+    Panic,
+    /// Cancelled on request.
+    Cancelled,
+    /// Its worker stopped heartbeating too many times.
+    LeaseExpired,
+    /// The signal analysis refused its input.
+    Analysis,
+}
+
+impl FailureKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FailureKind::Invalid => "invalid",
+            FailureKind::Numerical => "numerical",
+            FailureKind::Panic => "panic",
+            FailureKind::Cancelled => "cancelled",
+            FailureKind::LeaseExpired => "lease_expired",
+            FailureKind::Analysis => "analysis",
+        }
+    }
+}
+
+impl fmt::Display for FailureKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// Why a job failed or stopped, as stored and shown.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct JobError {
-    /// `invalid`, `numerical`, `panic`, `cancelled`, `lease_expired`, `analysis`.
-    pub kind: String,
+    pub kind: FailureKind,
     pub message: String,
 }
 
@@ -162,12 +198,37 @@ pub struct Heartbeat {
     pub cancel_requested: bool,
 }
 
-/// A stored output: JSON metadata plus a binary body.
+/// A stored output: typed metadata plus a binary body (little-endian f32 samples).
 #[derive(Debug, Clone)]
 pub struct Artifact {
+    /// `channel:<name>`, `spectrum:raw` or `spectrum:level:<k>`.
     pub name: String,
-    pub meta: serde_json::Value,
+    pub meta: ArtifactMeta,
     pub data: Vec<u8>,
+}
+
+/// What an artifact's samples are. Stored as JSON; the two shapes are told apart by their
+/// fields (untagged), so rows written before the type existed still read.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ArtifactMeta {
+    /// A sampled channel of a simulation; sample `k` is at `start_time + k / sample_rate`.
+    Channel {
+        name: String,
+        /// SI unit of the samples.
+        unit: String,
+        /// Hz.
+        sample_rate: f64,
+        /// s.
+        start_time: f64,
+        samples: usize,
+    },
+    /// An envelope spectrum; bin `k` is at `k * df`.
+    Spectrum {
+        /// Bin spacing, Hz.
+        df: f64,
+        bins: usize,
+    },
 }
 
 /// How a claimed job ended.

@@ -181,7 +181,7 @@ impl Store for SqliteStore {
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError> {
         let now = now_ms();
         let err = JobError {
-            kind: "cancelled".into(),
+            kind: FailureKind::Cancelled,
             message: "cancelled while queued".into(),
         };
         let done = sqlx::query(
@@ -337,7 +337,7 @@ impl Store for SqliteStore {
             )
             .bind(&lease.id)
             .bind(&a.name)
-            .bind(a.meta.to_string())
+            .bind(serde_json::to_string(&a.meta).unwrap_or_default())
             .bind(a.data)
             .execute(&mut *tx)
             .await?;
@@ -368,7 +368,7 @@ impl Store for SqliteStore {
     async fn recover_expired(&self, max_attempts: i64) -> Result<u64, StoreError> {
         let now = now_ms();
         let err = JobError {
-            kind: "lease_expired".into(),
+            kind: FailureKind::LeaseExpired,
             message: format!(
                 "the worker running this job stopped responding {max_attempts} times; giving up"
             ),
@@ -416,10 +416,16 @@ impl Store for SqliteStore {
                 .await?;
         Ok(match row {
             Some(r) => {
+                let name: String = r.try_get("name")?;
                 let meta: String = r.try_get("meta")?;
+                let meta = serde_json::from_str(&meta).map_err(|e| {
+                    sqlx::Error::Decode(
+                        format!("bad metadata of artifact {name} of job {id}: {e}").into(),
+                    )
+                })?;
                 Some(Artifact {
-                    name: r.try_get("name")?,
-                    meta: serde_json::from_str(&meta).unwrap_or(serde_json::Value::Null),
+                    name,
+                    meta,
                     data: r.try_get("data")?,
                 })
             }
@@ -483,7 +489,7 @@ mod tests {
         ));
         let late = Outcome::Failed {
             error: JobError {
-                kind: "x".into(),
+                kind: FailureKind::Numerical,
                 message: "stale".into(),
             },
             stats: None,
@@ -524,7 +530,7 @@ mod tests {
         }
         let job = s.get_job(&id).await.unwrap();
         assert_eq!(job.state, JobState::Failed);
-        assert_eq!(job.error.unwrap().kind, "lease_expired");
+        assert_eq!(job.error.unwrap().kind, FailureKind::LeaseExpired);
     }
 
     #[tokio::test]

@@ -1,7 +1,10 @@
-//! Helpers shared by the signal integration tests.
+//! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+mod app;
 mod server;
+#[allow(unused_imports)]
+pub use app::TestApp;
 #[allow(unused_imports)]
 pub use server::*;
 

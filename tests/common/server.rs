@@ -1,5 +1,6 @@
-//! Helpers for the service tests: run the real `bearing-sim serve` binary on a random
-//! port with a temporary database and talk to it over HTTP.
+//! Helpers for the service tests: the service under test ([`TestApp`] in-process, or
+//! [`Server`], the real `bearing-sim serve` binary, for tests of process signals), and
+//! HTTP helpers that work with either.
 
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader};
@@ -83,6 +84,31 @@ impl Drop for Server {
     }
 }
 
+/// A running service under test: in-process or a child process.
+pub trait Service {
+    fn url(&self, path: &str) -> String;
+    /// Its log, for failure messages.
+    fn log(&self) -> String;
+}
+
+impl Service for Server {
+    fn url(&self, path: &str) -> String {
+        Server::url(self, path)
+    }
+    fn log(&self) -> String {
+        Server::log(self)
+    }
+}
+
+impl Service for super::TestApp {
+    fn url(&self, path: &str) -> String {
+        super::TestApp::url(self, path)
+    }
+    fn log(&self) -> String {
+        super::TestApp::log(self)
+    }
+}
+
 pub fn client() -> reqwest::Client {
     reqwest::Client::builder()
         .timeout(Duration::from_secs(60))
@@ -130,7 +156,7 @@ pub async fn get_text(c: &reqwest::Client, url: &str) -> String {
     c.get(url).send().await.unwrap().text().await.unwrap()
 }
 
-pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
+pub async fn submit(c: &reqwest::Client, s: &impl Service, body: &Value) -> String {
     let (status, _, job) = post_json(c, &s.url("/v1/simulations"), body).await;
     assert_eq!(status, 202, "submit: {job}");
     job["id"].as_str().unwrap().to_string()
@@ -139,7 +165,7 @@ pub async fn submit(c: &reqwest::Client, s: &Server, body: &Value) -> String {
 /// Poll a job until `pred` holds, panicking with the last state after `timeout`.
 pub async fn wait_until(
     c: &reqwest::Client,
-    s: &Server,
+    s: &impl Service,
     id: &str,
     timeout: Duration,
     pred: impl Fn(&Value) -> bool,
@@ -158,7 +184,12 @@ pub async fn wait_until(
     }
 }
 
-pub async fn wait_finished(c: &reqwest::Client, s: &Server, id: &str, timeout: Duration) -> Value {
+pub async fn wait_finished(
+    c: &reqwest::Client,
+    s: &impl Service,
+    id: &str,
+    timeout: Duration,
+) -> Value {
     wait_until(c, s, id, timeout, |j| {
         matches!(
             j["state"].as_str(),

@@ -1,0 +1,101 @@
+//! What a run produces: solver statistics, steady-window averages and sampled channels.
+
+use serde::{Deserialize, Serialize};
+
+/// Integrator statistics.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct SolverStats {
+    pub accepted_steps: u64,
+    pub rejected_steps: u64,
+    pub rhs_evaluations: u64,
+    /// Smallest accepted step, s.
+    pub min_step: f64,
+    /// Largest accepted step, s.
+    pub max_step: f64,
+    /// Wall-clock time of the integration, s.
+    pub wall_time: f64,
+}
+
+/// Time-averaged state of one ball over the steady window.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct BallSummary {
+    /// Mean inner-race contact load, N.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub inner_load: f64,
+    /// Mean outer-race contact load, N.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub outer_load: f64,
+    /// Mean inner contact angle, rad.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub inner_contact_angle: f64,
+    /// Mean outer contact angle, rad.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub outer_contact_angle: f64,
+}
+
+/// Scalar results of a run.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub stats: SolverStats,
+    /// Time window used for the averages (after the speed ramp and its transient), s.
+    pub steady_window: [f64; 2],
+    /// Mean inner-ring (shaft) speed over the window, rad/s.
+    pub mean_shaft_speed: f64,
+    /// Mean cage angular speed, rad/s.
+    pub mean_cage_speed: f64,
+    /// Pure-rolling (epicyclic) cage speed at the mean shaft speed, rad/s.
+    pub epicyclic_cage_speed: f64,
+    /// Cage slip, 1 - mean / epicyclic, -.
+    pub cage_slip: f64,
+    /// Mean force the balls exert on the inner ring (X, Y, Z), N; balances the applied load.
+    pub mean_inner_ring_reaction: [f64; 3],
+    /// Per ball, averaged over the window (each ball orbits through the whole bearing).
+    pub balls: Vec<BallSummary>,
+    /// Load distribution: averages over whichever ball sits within half a ball spacing of
+    /// azimuth `2 pi k / Z` (k = 0..Z), comparable with the quasi-static ball k.
+    pub load_zone: Vec<BallSummary>,
+}
+
+/// One uniformly sampled channel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Channel {
+    /// e.g. `outer_ring_accel_y`.
+    pub name: String,
+    /// SI unit of the samples, e.g. `m/s^2`.
+    pub unit: String,
+    pub data: Vec<f64>,
+}
+
+/// Uniformly sampled channels; sample `k` is at `start_time + k / sample_rate`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Channels {
+    /// Hz.
+    pub sample_rate: f64,
+    /// s.
+    pub start_time: f64,
+    pub channels: Vec<Channel>,
+}
+
+impl Channels {
+    pub fn get(&self, name: &str) -> Option<&Channel> {
+        self.channels.iter().find(|c| c.name == name)
+    }
+}
+
+/// What a run produces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SimResult {
+    pub summary: Summary,
+    pub channels: Channels,
+}
+
+impl SimResult {
+    /// Samples of `channel` inside the summary's steady window; `None` for a channel the
+    /// run did not record.
+    pub fn steady_samples(&self, channel: &str) -> Option<&[f64]> {
+        let fs = self.channels.sample_rate;
+        let data = &self.channels.get(channel)?.data;
+        let w0 = ((self.summary.steady_window[0] - self.channels.start_time) * fs) as usize;
+        Some(&data[w0.min(data.len())..])
+    }
+}

@@ -1,0 +1,243 @@
+//! Equations of motion (eqs. 29-32): the right-hand side `dy/dt = f(t, y)`.
+//!
+//! Allocation-free: it reads the state slice, writes the derivative slice and, when
+//! asked, fills preallocated diagnostics.
+
+use crate::model::layout::Layout;
+use crate::model::Model;
+use crate::physics::cage_land::{land_on_cage, AxisMotion};
+use crate::physics::cage_pocket::{pocket_contact, CageMotion};
+use crate::physics::frames::{e_r, e_t, from_azimuth, tilt_matrix, to_azimuth};
+use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
+use nalgebra::{Matrix3, Vector3};
+
+/// Per-evaluation quantities that are not part of the state.
+#[derive(Debug, Clone, Default)]
+pub struct Diagnostics {
+    /// Inner / outer normal contact load per ball, N.
+    pub inner_load: Vec<f64>,
+    pub outer_load: Vec<f64>,
+    /// Inner / outer contact angle per ball, rad.
+    pub inner_alpha: Vec<f64>,
+    pub outer_alpha: Vec<f64>,
+    /// Force of the balls on the inner ring, N.
+    pub inner_reaction: [f64; 3],
+    /// Outer-ring (pedestal) acceleration y, z, m/s^2.
+    pub outer_accel: [f64; 2],
+    /// Cage-land eccentricity ratio, -.
+    pub land_eccentricity: f64,
+}
+
+impl Diagnostics {
+    pub fn new(z: usize) -> Self {
+        Diagnostics {
+            inner_load: vec![0.0; z],
+            outer_load: vec![0.0; z],
+            inner_alpha: vec![0.0; z],
+            outer_alpha: vec![0.0; z],
+            ..Default::default()
+        }
+    }
+}
+
+/// Rings as the contact functions see them.
+#[inline]
+pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
+    let l: &Layout = &m.layout;
+    let i = l.inner;
+    let o = l.outer;
+    let inner = RingMotion {
+        centre: Vector3::new(y[i], y[i + 1], y[i + 2]),
+        rot: if m.tilt_free {
+            tilt_matrix(y[i + 3], y[i + 4])
+        } else {
+            Matrix3::identity()
+        },
+        velocity: Vector3::new(y[i + 5], y[i + 6], y[i + 7]),
+        spin: m.shaft_speed(t),
+        spin_angle: m.shaft_angle(t),
+    };
+    let outer = RingMotion {
+        centre: Vector3::new(0.0, y[o], y[o + 1]),
+        rot: Matrix3::identity(),
+        velocity: Vector3::new(0.0, y[o + 2], y[o + 3]),
+        spin: 0.0,
+        spin_angle: 0.0,
+    };
+    (inner, outer)
+}
+
+/// Ball centre, velocity and angular velocity in inertial coordinates.
+#[inline]
+pub fn ball_motion(y: &[f64], b: usize) -> BallMotion {
+    let (x, r, th) = (y[b], y[b + 1], y[b + 2]);
+    let (xd, rd, thd) = (y[b + 3], y[b + 4], y[b + 5]);
+    let er = e_r(th);
+    let et = e_t(th);
+    BallMotion {
+        centre: Vector3::new(x, 0.0, 0.0) + r * er,
+        velocity: Vector3::new(xd, 0.0, 0.0) + rd * er + r * thd * et,
+        omega: from_azimuth(&Vector3::new(y[b + 6], y[b + 7], y[b + 8]), th),
+    }
+}
+
+/// Cage motion from the state.
+#[inline]
+pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
+    let c = m.layout.cage;
+    CageMotion {
+        centre: Vector3::new(y[c], y[c + 1], y[c + 2]),
+        velocity: Vector3::new(y[c + 6], y[c + 7], y[c + 8]),
+        rot: tilt_matrix(y[c + 4], y[c + 5]),
+        spin_angle: y[c + 3],
+        omega: Vector3::new(y[c + 9], y[c + 10], y[c + 11]),
+    }
+}
+
+/// Evaluate the derivative. `dy` must have the state's length.
+pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut Diagnostics>) {
+    let l = &m.layout;
+    let (inner, outer) = ring_motions(m, t, y);
+    let cage = cage_motion(m, y);
+    let mut f_inner = Vector3::zeros();
+    let mut m_inner = Vector3::zeros();
+    let mut f_outer = Vector3::zeros();
+    let mut f_cage = Vector3::zeros();
+    let mut m_cage = Vector3::zeros();
+    let mb = m.ball_mass;
+    let ib = m.ball_inertia;
+
+    for j in 0..m.z {
+        let b = l.ball(j);
+        let ball = ball_motion(y, b);
+        let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
+        let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
+        let pc = pocket_contact(
+            &m.pocket,
+            &cage,
+            m.pocket_angles[j],
+            &ball.centre,
+            &ball.velocity,
+            &ball.omega,
+        );
+        let f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
+        let mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
+        f_inner += ci.force_on_ring;
+        m_inner += ci.moment_on_ring;
+        f_outer += co.force_on_ring;
+        f_cage += pc.force_on_cage;
+        m_cage += pc.moment_on_cage;
+
+        let th = y[b + 2];
+        let (r, rd, thd) = (y[b + 1], y[b + 4], y[b + 5]);
+        let fa = to_azimuth(&f, th);
+        let ma = to_azimuth(&mo, th);
+        dy[b] = y[b + 3];
+        dy[b + 1] = rd;
+        dy[b + 2] = thd;
+        // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
+        dy[b + 3] = fa.x / mb;
+        dy[b + 4] = fa.y / mb + r * thd * thd;
+        dy[b + 5] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
+        // eq. 32 for a sphere, in the azimuth frame turning at thd about X:
+        // dw/dt = M / I - thd e_x x w (the gyroscopic coupling)
+        let (wr, wt) = (y[b + 7], y[b + 8]);
+        dy[b + 6] = ma.x / ib;
+        dy[b + 7] = ma.y / ib + thd * wt;
+        dy[b + 8] = ma.z / ib - thd * wr;
+
+        if let Some(d) = diag.as_deref_mut() {
+            d.inner_load[j] = ci.load;
+            d.outer_load[j] = co.load;
+            d.inner_alpha[j] = ci.alpha;
+            d.outer_alpha[j] = co.alpha;
+        }
+    }
+
+    // Cage-land (eqs. 23-28), relative to the guiding ring, over the land's width.
+    let mut cage_torque_x = 0.0;
+    let mut land_ecc = 0.0;
+    if let Some(lp) = &m.land {
+        let ring = if m.land_on_outer { &outer } else { &inner };
+        let ex = Vector3::x();
+        let lr = land_on_cage(
+            lp,
+            &AxisMotion {
+                centre: cage.centre,
+                velocity: cage.velocity,
+                axis: cage.rot * ex,
+                tilt_rate: Vector3::new(0.0, cage.omega.y, cage.omega.z),
+                spin: cage.omega.x,
+            },
+            &AxisMotion {
+                centre: ring.centre,
+                velocity: ring.velocity,
+                axis: ring.rot * ex,
+                // ring tilt rates do not enter surface velocities (docs/model.md)
+                tilt_rate: Vector3::zeros(),
+                spin: ring.spin,
+            },
+        );
+        f_cage += lr.force_on_cage;
+        m_cage += lr.moment_on_cage;
+        cage_torque_x = lr.torque_on_cage;
+        land_ecc = lr.eccentricity_ratio;
+        if m.land_on_outer {
+            f_outer -= lr.force_on_cage;
+        } else {
+            f_inner -= lr.force_on_cage;
+            m_inner += lr.moment_on_ring;
+        }
+    }
+
+    // Inner ring: translations under the applied load (rotation prescribed).
+    let i = l.inner;
+    let mi = m.inner_mass;
+    for k in 0..3 {
+        dy[i + k] = y[i + 5 + k];
+        dy[i + 5 + k] = (m.applied_force[k] + f_inner[k]) / mi;
+    }
+    if m.tilt_free {
+        dy[i + 3] = y[i + 8];
+        dy[i + 4] = y[i + 9];
+        dy[i + 8] = (m.applied_moment[0] + m_inner.y) / m.inner_tilt_inertia;
+        dy[i + 9] = (m.applied_moment[1] + m_inner.z) / m.inner_tilt_inertia;
+    } else {
+        dy[i + 3] = 0.0;
+        dy[i + 4] = 0.0;
+        dy[i + 8] = 0.0;
+        dy[i + 9] = 0.0;
+    }
+
+    // Outer ring on its pedestal, eq. 29.
+    let o = l.outer;
+    let ay = (f_outer.y - m.pedestal_k[0] * y[o] - m.pedestal_c[0] * y[o + 2]) / m.pedestal_mass;
+    let az =
+        (f_outer.z - m.pedestal_k[1] * y[o + 1] - m.pedestal_c[1] * y[o + 3]) / m.pedestal_mass;
+    dy[o] = y[o + 2];
+    dy[o + 1] = y[o + 3];
+    dy[o + 2] = ay;
+    dy[o + 3] = az;
+
+    // Cage, eqs. 31-32 (small tilt: body and inertial axes coincide to first order).
+    let c = l.cage;
+    let mc = m.cage_mass;
+    let [ix, id] = m.cage_inertia;
+    for k in 0..3 {
+        dy[c + k] = y[c + 6 + k];
+        dy[c + 6 + k] = f_cage[k] / mc;
+    }
+    let (wx, wy, wz) = (y[c + 9], y[c + 10], y[c + 11]);
+    dy[c + 3] = wx;
+    dy[c + 4] = wy;
+    dy[c + 5] = wz;
+    dy[c + 9] = (m_cage.x + cage_torque_x) / ix;
+    dy[c + 10] = (m_cage.y + (id - ix) * wx * wz) / id;
+    dy[c + 11] = (m_cage.z + (ix - id) * wx * wy) / id;
+
+    if let Some(d) = diag {
+        d.inner_reaction = [f_inner.x, f_inner.y, f_inner.z];
+        d.outer_accel = [ay, az];
+        d.land_eccentricity = land_ecc;
+    }
+}

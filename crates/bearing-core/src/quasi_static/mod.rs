@@ -1,0 +1,12 @@
+//! Quasi-static (Jones-Harris) equilibrium of the bearing at a given speed and load.
+//!
+//! It is the reference the dynamic model is checked against and the initial state of
+//! every dynamic run.
+
+mod error;
+mod initial_state;
+mod solver;
+
+pub use error::QsError;
+pub use initial_state::initial_state;
+pub use solver::{solve, solve_model, QsBall, QsState, QuasiStaticSolution};

@@ -1,0 +1,359 @@
+//! The scene types: the one serde-typed input of a simulation.
+//!
+//! Every quantity is SI (m, kg, s, N, Pa, rad) unless the field name says otherwise
+//! (`*_rpm` is rev/min because that is how spindle speeds are specified).
+
+use serde::{Deserialize, Serialize};
+
+/// A complete simulation input.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free-text label.
+    #[serde(default)]
+    pub name: String,
+    pub bearing: Bearing,
+    pub materials: Materials,
+    pub lubricant: Lubricant,
+    pub operating: Operating,
+    /// Localized raceway defects; empty for a healthy bearing.
+    #[serde(default)]
+    pub faults: Vec<Fault>,
+    #[serde(default)]
+    pub solver: Solver,
+    #[serde(default)]
+    pub outputs: Outputs,
+}
+
+/// Bearing geometry (Table 1 plus what the dynamic model needs beyond it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bearing {
+    /// Bore (inner ring inner) diameter, m.
+    pub bore_diameter: f64,
+    /// Outer ring outside diameter, m.
+    pub outer_diameter: f64,
+    /// Bearing width, m.
+    pub width: f64,
+    /// Inner raceway groove-bottom diameter, m.
+    pub inner_groove_diameter: f64,
+    /// Outer raceway groove-bottom diameter, m.
+    pub outer_groove_diameter: f64,
+    /// Ball diameter D, m.
+    pub ball_diameter: f64,
+    /// Number of balls Z, -.
+    pub ball_count: usize,
+    /// Nominal (free) contact angle, rad.
+    pub contact_angle: f64,
+    /// Inner groove curvature factor f_i = r_groove / D, - (> 0.5).
+    pub inner_groove_curvature: f64,
+    /// Outer groove curvature factor f_o = r_groove / D, - (> 0.5).
+    pub outer_groove_curvature: f64,
+    /// Inner ring land (shoulder) diameter, m.
+    pub inner_land_diameter: f64,
+    /// Outer ring land (shoulder) diameter, m.
+    pub outer_land_diameter: f64,
+    pub cage: Cage,
+}
+
+/// Cage geometry and guidance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Cage {
+    /// Cage bore diameter, m.
+    pub inner_diameter: f64,
+    /// Cage outside diameter, m.
+    pub outer_diameter: f64,
+    /// Cylindrical pocket diameter, m.
+    pub pocket_diameter: f64,
+    /// Cage axial width L_c, m.
+    pub width: f64,
+    /// Which surface pilots the cage.
+    pub guidance: CageGuidance,
+    /// Diametral clearance between the cage and its guiding land, m (ignored for ball guidance).
+    pub land_clearance: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CageGuidance {
+    OuterLand,
+    InnerLand,
+    Ball,
+}
+
+/// Elastic and inertial properties of one part.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus, Pa.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio, -.
+    pub poisson_ratio: f64,
+    /// Density, kg/m^3.
+    pub density: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Materials {
+    pub rings: Material,
+    pub balls: Material,
+    pub cage: Material,
+}
+
+/// Lubricant and friction data.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Lubricant {
+    /// Dynamic viscosity at operating temperature, Pa s.
+    pub dynamic_viscosity: f64,
+    /// EHL traction curve mu(s) with s the slip speed, m/s.
+    pub traction: Traction,
+    /// Critical film below which the ball-pocket contact becomes Hertzian, m.
+    pub critical_film_ball_cage: f64,
+    /// Critical film below which the cage-land contact becomes Hertzian, m.
+    pub critical_film_cage_land: f64,
+    /// Coulomb friction coefficient in Hertzian ball-pocket and cage-land contacts, -.
+    pub cage_friction: f64,
+    /// Damping ratio of the ball-race normal contact (EHL film damping), -. Default 0.05.
+    #[serde(default = "default_contact_damping_ratio")]
+    pub contact_damping_ratio: f64,
+}
+
+/// Traction coefficient as a function of slip speed s (m/s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Traction {
+    /// `mu(s) = (a + b s) exp(-c s) + d` (eq. 15); a, d in -, b in s/m, c in s/m.
+    Abcd { a: f64, b: f64, c: f64, d: f64 },
+    /// ADORE-style description: mu at zero slip, peak value, value at large slip (all -)
+    /// and the slip speed of the peak u_m (m/s). Converted to `Abcd`.
+    Adore {
+        mu0: f64,
+        mu_max: f64,
+        mu_inf: f64,
+        u_m: f64,
+    },
+}
+
+/// Operating conditions.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Operating {
+    pub speed: SpeedProfile,
+    /// Radial load on the inner ring, N (>= 0).
+    pub radial_load: f64,
+    /// Azimuth of the radial load direction, rad (0 = +Z).
+    #[serde(default)]
+    pub radial_load_angle: f64,
+    /// Axial load on the inner ring along +X, N (>= 0; an angular contact bearing needs some).
+    pub axial_load: f64,
+    /// Inner-ring tilt: held at zero by the shaft's bearing pair (default) or free.
+    #[serde(default)]
+    pub inner_ring_tilt: TiltMode,
+    /// Mass moving with the inner ring besides the ring itself (its share of the shaft), kg.
+    #[serde(default)]
+    pub shaft_mass: f64,
+    /// Moment applied to the inner ring about Y and Z, N m (only with free tilt).
+    #[serde(default)]
+    pub applied_moment: [f64; 2],
+    pub pedestal: Pedestal,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TiltMode {
+    #[default]
+    Locked,
+    Free,
+}
+
+/// Inner-ring speed: linear ramp from `initial_rpm` to `steady_rpm` over `ramp_time`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedProfile {
+    /// Speed at t = 0, rev/min.
+    pub initial_rpm: f64,
+    /// Speed after the ramp, rev/min.
+    pub steady_rpm: f64,
+    /// Ramp duration, s (0 = constant speed `steady_rpm`).
+    #[serde(default)]
+    pub ramp_time: f64,
+}
+
+/// 2-DOF spring-damper support of the outer ring (eq. 29).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pedestal {
+    /// Moving mass (outer ring plus participating housing), kg.
+    pub mass: f64,
+    /// Stiffness in Y, N/m.
+    pub stiffness_y: f64,
+    /// Stiffness in Z, N/m.
+    pub stiffness_z: f64,
+    /// Viscous damping in Y, N s/m.
+    pub damping_y: f64,
+    /// Viscous damping in Z, N s/m.
+    pub damping_z: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ring {
+    Inner,
+    Outer,
+}
+
+/// A localized raceway defect (a pit or spall).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Fault {
+    pub ring: Ring,
+    /// Azimuth of the defect centre in the ring's own frame at t = 0, rad.
+    pub angle: f64,
+    /// Defect extent along the raceway (its diameter), m.
+    pub width: f64,
+    /// Defect depth, m.
+    pub depth: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Embedded 4th-order Runge-Kutta with step-size control (default).
+    #[default]
+    Rk4Adaptive,
+    /// Classical RK4 at `initial_step`.
+    Rk4Fixed,
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Solver {
+    /// Simulated time, s.
+    pub duration: f64,
+    pub integrator: Integrator,
+    /// First (adaptive) or only (fixed) step, s.
+    pub initial_step: f64,
+    /// Relative tolerance of the step controller, -.
+    pub rtol: f64,
+    /// Absolute tolerance scale, applied per state component in units of that component's
+    /// natural scale (ball radius for lengths, ring surface speed for velocities), -.
+    pub atol: f64,
+    /// Largest step the controller may take, s.
+    pub max_step: f64,
+    /// Traction strips across the contact ellipse major axis (eq. 13, 2m strips), -.
+    pub traction_strips: usize,
+    /// Uniform output sampling rate of the channels, Hz (default 102.4 kHz: above twice the
+    /// ball-race contact modes, so interpolated samples do not alias them).
+    pub sample_rate: f64,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        Solver {
+            duration: 0.5,
+            integrator: Integrator::Rk4Adaptive,
+            initial_step: 1e-4,
+            rtol: 1e-6,
+            atol: 1e-6,
+            max_step: 1e-4,
+            traction_strips: 10,
+            sample_rate: 102_400.0,
+        }
+    }
+}
+
+/// Which channels to record besides the outer-ring acceleration (always recorded).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Outputs {
+    /// Cage angular speed, rad/s.
+    pub cage_speed: bool,
+    /// Inner-ring displacement y, z (and x), m.
+    pub inner_ring_displacement: bool,
+    /// Record the inner and outer contact loads (N) of this ball (0-based index).
+    pub contact_loads_ball: Option<usize>,
+}
+
+impl Traction {
+    /// Coefficients `(a, b, c, d)` of eq. 15.
+    pub fn abcd(&self) -> (f64, f64, f64, f64) {
+        match *self {
+            Traction::Abcd { a, b, c, d } => (a, b, c, d),
+            Traction::Adore {
+                mu0,
+                mu_max,
+                mu_inf,
+                u_m,
+            } => adore_to_abcd(mu0, mu_max, mu_inf, u_m),
+        }
+    }
+}
+
+/// Convert ADORE-style traction parameters to eq. 15 coefficients.
+///
+/// `a = mu0 - mu_inf`, `d = mu_inf`; the peak at `u_m` fixes `c = b / (a + b u_m)` and
+/// `(a + b u_m) exp(-b u_m / (a + b u_m)) = mu_max - mu_inf`, solved for `b` by bisection
+/// (the left side grows monotonically with b on the admissible branch).
+pub fn adore_to_abcd(mu0: f64, mu_max: f64, mu_inf: f64, u_m: f64) -> (f64, f64, f64, f64) {
+    let a = mu0 - mu_inf;
+    let d = mu_inf;
+    let target = mu_max - mu_inf;
+    let g = |b: f64| {
+        let p = a + b * u_m;
+        p * (-b * u_m / p).exp() - target
+    };
+    // b must make a + b u_m > 0 and the peak lie at u_m > 0, i.e. b > 0 and b > -a / u_m.
+    let mut lo = (-a / u_m).max(0.0) + 1e-12;
+    let mut hi = lo + 1.0;
+    while g(hi) < 0.0 && hi < 1e9 {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if g(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let b = 0.5 * (lo + hi);
+    let c = b / (a + b * u_m);
+    (a, b, c, d)
+}
+
+fn default_contact_damping_ratio() -> f64 {
+    0.05
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn adore_sample_deck_converts_to_published_abcd() {
+        // MIL-L-23699 deck: mu0 0, mu_max 0.05, mu_inf 0.036, u_m 1 m/s -> published
+        // A -0.036, B 0.1018, C 1.547, D 0.036 (4 significant figures, hence 1e-3 relative).
+        let (a, b, c, d) = adore_to_abcd(0.0, 0.05, 0.036, 1.0);
+        assert!((a + 0.036).abs() < 1e-12);
+        assert!((b - 0.1018).abs() / 0.1018 < 1e-3, "b = {b}");
+        assert!((c - 1.547).abs() / 1.547 < 1e-3, "c = {c}");
+        assert!((d - 0.036).abs() < 1e-12);
+        // the converted curve has its maximum mu_max at u_m
+        let mu = |s: f64| (a + b * s) * (-c * s).exp() + d;
+        assert!((mu(1.0) - 0.05).abs() < 1e-9);
+        assert!(mu(0.9) < mu(1.0) && mu(1.1) < mu(1.0));
+    }
+
+    #[test]
+    fn julia_default_converts() {
+        // 0.08 / 0.10 / 0.04 / 0.5 -> A 0.04, B 0.1506, C 1.306, D 0.04 (published, 4 s.f.).
+        let (a, b, c, d) = adore_to_abcd(0.08, 0.10, 0.04, 0.5);
+        assert!((a - 0.04).abs() < 1e-12 && (d - 0.04).abs() < 1e-12);
+        assert!((b - 0.1506).abs() / 0.1506 < 1e-3, "b = {b}");
+        assert!((c - 1.306).abs() / 1.306 < 1e-3, "c = {c}");
+    }
+}

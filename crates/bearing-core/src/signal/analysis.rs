@@ -1,0 +1,446 @@
+//! The whole pipeline on one signal: window, envelope spectrum of the raw signal, DTCWT
+//! decomposition, per-level kurtosis, envelope spectra of the components, and identification
+//! of the characteristic frequencies in the raw spectrum and in the two components with the
+//! largest kurtosis (paper, section 3: the second fault of a compound pair often sits in the
+//! runner-up level).
+
+use serde::{Deserialize, Serialize};
+
+use super::dtcwt::{min_length, Dtcwt1d, DtcwtError};
+use super::frequencies::{
+    characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry,
+};
+use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
+use super::kurtosis::kurtosis;
+use super::spectrum::EnvelopeSpectrumPlan;
+
+pub use super::identify::{Identification, Sideband};
+pub use super::spectrum::Spectrum;
+
+/// Analysis settings. Missing JSON fields take the defaults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct AnalysisOptions {
+    /// DTCWT levels, >= 1 (default 5).
+    pub levels: usize,
+    /// Analysis window `[t0, t1]`, s from the first sample; `None` = the whole signal.
+    /// Use it to leave out a speed ramp or a bad stretch of a recording.
+    pub window: Option<[f64; 2]>,
+    /// Ideal band-pass `[f0, f1]`, Hz, applied to the raw signal before its envelope;
+    /// `None` = no filter. The wavelet components are band-passed by construction.
+    pub band: Option<[f64; 2]>,
+    /// Half-width of the peak search band, % of the target frequency (default 5).
+    pub search_band_pct: f64,
+    /// Harmonics searched per characteristic frequency (default 3).
+    pub harmonics: usize,
+    /// Level-1 filter set (default `near_sym_b`).
+    pub biort: String,
+    /// Filter set of levels >= 2 (default `qshift_b`).
+    pub qshift: String,
+    /// Minimum prominence of a detection, dB (default 12).
+    pub detection_threshold_db: f64,
+    /// Also report the identifications of every level (band-pass by wavelet level), not only
+    /// the best and runner-up (default false).
+    pub report_all_levels: bool,
+}
+
+impl Default for AnalysisOptions {
+    fn default() -> Self {
+        AnalysisOptions {
+            levels: 5,
+            window: None,
+            band: None,
+            search_band_pct: 5.0,
+            harmonics: 3,
+            biort: "near_sym_b".into(),
+            qshift: "qshift_b".into(),
+            detection_threshold_db: DEFAULT_THRESHOLD_DB,
+            report_all_levels: false,
+        }
+    }
+}
+
+/// Identification results of one DTCWT level's component.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ComponentReport {
+    /// DTCWT level, 1-based (1 = finest, highest frequencies).
+    pub level: usize,
+    /// Pearson kurtosis of the component, -.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub kurtosis: f64,
+    /// Nominal pass band of the level, Hz.
+    pub band_hz: [f64; 2],
+    pub identifications: Vec<Identification>,
+    /// Shaft-rate sidebands around the BPFI harmonics.
+    pub bpfi_sidebands: Vec<Sideband>,
+}
+
+/// Everything the analysis found.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AnalysisReport {
+    /// Hz.
+    pub sample_rate: f64,
+    /// Samples analysed (inside the window).
+    pub n_samples: usize,
+    /// Window analysed, s from the first sample of the input.
+    pub window: [f64; 2],
+    /// Shaft frequency, Hz.
+    pub shaft_hz: f64,
+    /// Characteristic frequencies from the geometry given, Hz.
+    pub theory: CharacteristicFrequencies,
+    /// Envelope-spectrum resolution, Hz.
+    pub df: f64,
+    /// Band-pass applied to the raw signal, Hz.
+    pub band: Option<[f64; 2]>,
+    /// Pearson kurtosis of the windowed raw signal, -.
+    #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    pub raw_kurtosis: f64,
+    /// Pearson kurtosis of each level's component, index 0 = level 1.
+    #[serde(deserialize_with = "crate::json_float::vec_f64_or_nan")]
+    pub level_kurtosis: Vec<f64>,
+    /// Identifications in the raw (optionally band-passed) envelope spectrum.
+    pub raw: Vec<Identification>,
+    /// Shaft-rate sidebands around BPFI in the raw envelope spectrum.
+    pub raw_bpfi_sidebands: Vec<Sideband>,
+    /// The level with the largest kurtosis.
+    pub best_component: ComponentReport,
+    /// The level with the second-largest kurtosis.
+    pub runner_up_component: ComponentReport,
+    /// Every level, index 0 = level 1, when `report_all_levels` was asked for (else empty).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub all_levels: Vec<ComponentReport>,
+}
+
+/// Report plus the spectra it was read from.
+#[derive(Debug, Clone)]
+pub struct AnalysisOutput {
+    pub report: AnalysisReport,
+    /// Envelope spectrum of the windowed (optionally band-passed) signal.
+    pub raw_spectrum: Spectrum,
+    /// Envelope spectrum of each level's component, index 0 = level 1.
+    pub level_spectra: Vec<Spectrum>,
+}
+
+/// Why an analysis could not run. Messages start with the offending input.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AnalysisError {
+    /// A scalar input or option is out of range.
+    #[error("{field}: {message}")]
+    Invalid { field: String, message: String },
+    #[error("samples[{index}]: not a finite number")]
+    NonFinite { index: usize },
+    #[error("samples: {n} samples is too short for {levels} levels (need >= {need})")]
+    TooShort {
+        n: usize,
+        levels: usize,
+        need: usize,
+    },
+}
+
+fn invalid(field: &str, message: impl Into<String>) -> AnalysisError {
+    AnalysisError::Invalid {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+impl From<DtcwtError> for AnalysisError {
+    fn from(e: DtcwtError) -> Self {
+        match e {
+            DtcwtError::UnknownFilter {
+                field,
+                name,
+                expected,
+            } => invalid(
+                field,
+                format!(
+                    "unknown filter set '{name}' (expected one of {})",
+                    expected.join(", ")
+                ),
+            ),
+            DtcwtError::Levels { levels } => {
+                invalid("levels", format!("must be >= 1 (got {levels})"))
+            }
+            DtcwtError::TooShort { n, levels, need } => AnalysisError::TooShort { n, levels, need },
+        }
+    }
+}
+
+/// Largest number of levels accepted (a 2^17-fold decimation is beyond any practical record).
+pub const MAX_LEVELS: usize = 16;
+
+/// Analyse `signal` sampled at `fs` Hz from a bearing of geometry `geometry` turning at
+/// `shaft_hz` Hz.
+pub fn analyze(
+    signal: &[f64],
+    fs: f64,
+    geometry: &KinematicGeometry,
+    shaft_hz: f64,
+    opts: &AnalysisOptions,
+) -> Result<AnalysisOutput, AnalysisError> {
+    if !(fs.is_finite() && fs > 0.0) {
+        return Err(invalid("sample_rate", format!("must be > 0 Hz (got {fs})")));
+    }
+    if !(shaft_hz.is_finite() && shaft_hz > 0.0) {
+        return Err(invalid(
+            "shaft_hz",
+            format!("must be > 0 Hz (got {shaft_hz})"),
+        ));
+    }
+    geometry
+        .validate()
+        .map_err(|(f, m)| invalid(&format!("geometry.{f}"), m))?;
+    validate_options(opts, fs)?;
+    if let Some(index) = signal.iter().position(|v| !v.is_finite()) {
+        return Err(AnalysisError::NonFinite { index });
+    }
+
+    let duration = signal.len() as f64 / fs;
+    let (i0, i1) = match opts.window {
+        None => (0, signal.len()),
+        Some([t0, t1]) => {
+            if !(t0.is_finite() && t1.is_finite() && t0 >= 0.0 && t1 > t0) {
+                return Err(invalid(
+                    "window",
+                    format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])"),
+                ));
+            }
+            if t0 >= duration {
+                return Err(invalid(
+                    "window",
+                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
+                ));
+            }
+            let i0 = (t0 * fs).round() as usize;
+            let i1 = ((t1 * fs).round() as usize).min(signal.len());
+            (i0, i1)
+        }
+    };
+    let x = &signal[i0..i1];
+    let need = min_length(opts.levels);
+    if x.len() < need {
+        return Err(if opts.window.is_some() {
+            invalid(
+                "window",
+                format!(
+                    "holds {} samples, too short for {} levels (need >= {need})",
+                    x.len(),
+                    opts.levels
+                ),
+            )
+        } else {
+            AnalysisError::TooShort {
+                n: x.len(),
+                levels: opts.levels,
+                need,
+            }
+        });
+    }
+
+    let theory = characteristic_frequencies(geometry, shaft_hz);
+    let id_opts = IdentifyOptions {
+        search_band_pct: opts.search_band_pct,
+        harmonics: opts.harmonics,
+        detection_threshold_db: opts.detection_threshold_db,
+    };
+
+    let transform = Dtcwt1d::new(&opts.biort, &opts.qshift)?;
+    let pyramid = transform.forward(x, opts.levels)?;
+    let components: Vec<Vec<f64>> = (1..=opts.levels)
+        .map(|l| transform.level_component(&pyramid, l))
+        .collect();
+    let level_kurtosis: Vec<f64> = components.iter().map(|c| kurtosis(c)).collect();
+
+    let mut plan = EnvelopeSpectrumPlan::new(x.len());
+    let raw_spectrum = plan.compute(x, fs, opts.band);
+    let level_spectra: Vec<Spectrum> = components
+        .iter()
+        .map(|c| plan.compute(c, fs, None))
+        .collect();
+
+    let mut order: Vec<usize> = (0..opts.levels).collect();
+    order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
+    let component_report = |idx: usize| {
+        let ids = identify(&level_spectra[idx], &theory, &id_opts);
+        let sidebands = bpfi_sidebands(&level_spectra[idx], &theory, &ids, &id_opts);
+        ComponentReport {
+            level: idx + 1,
+            kurtosis: level_kurtosis[idx],
+            band_hz: super::dtcwt::nominal_band(idx + 1, fs),
+            identifications: ids,
+            bpfi_sidebands: sidebands,
+        }
+    };
+    let best_component = component_report(order[0]);
+    // With a single level there is no runner-up: the best one is repeated.
+    let runner_up_component = component_report(*order.get(1).unwrap_or(&order[0]));
+    let all_levels = if opts.report_all_levels {
+        (0..opts.levels).map(component_report).collect()
+    } else {
+        Vec::new()
+    };
+
+    let raw = identify(&raw_spectrum, &theory, &id_opts);
+    let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
+    let report = AnalysisReport {
+        sample_rate: fs,
+        n_samples: x.len(),
+        window: [i0 as f64 / fs, i1 as f64 / fs],
+        shaft_hz,
+        theory,
+        df: raw_spectrum.df,
+        band: opts.band,
+        raw_kurtosis: kurtosis(x),
+        level_kurtosis,
+        raw,
+        raw_bpfi_sidebands,
+        best_component,
+        runner_up_component,
+        all_levels,
+    };
+    Ok(AnalysisOutput {
+        report,
+        raw_spectrum,
+        level_spectra,
+    })
+}
+
+fn validate_options(opts: &AnalysisOptions, fs: f64) -> Result<(), AnalysisError> {
+    if opts.levels == 0 || opts.levels > MAX_LEVELS {
+        return Err(invalid(
+            "levels",
+            format!("must be in 1..={MAX_LEVELS} (got {})", opts.levels),
+        ));
+    }
+    if !(opts.search_band_pct.is_finite()
+        && opts.search_band_pct > 0.0
+        && opts.search_band_pct <= 50.0)
+    {
+        return Err(invalid(
+            "search_band_pct",
+            format!("must be in (0, 50] % (got {})", opts.search_band_pct),
+        ));
+    }
+    if opts.harmonics == 0 || opts.harmonics > 50 {
+        return Err(invalid(
+            "harmonics",
+            format!("must be in 1..=50 (got {})", opts.harmonics),
+        ));
+    }
+    if !opts.detection_threshold_db.is_finite() {
+        return Err(invalid(
+            "detection_threshold_db",
+            "must be a finite number of dB",
+        ));
+    }
+    if let Some([f0, f1]) = opts.band {
+        let nyq = fs / 2.0;
+        if !(f0.is_finite() && f1.is_finite() && f0 >= 0.0 && f1 > f0 && f0 < nyq) {
+            return Err(invalid(
+                "band",
+                format!("must be [f0, f1] Hz with 0 <= f0 < f1 and f0 below Nyquist {nyq} Hz (got [{f0}, {f1}])"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn geometry() -> KinematicGeometry {
+        super::super::frequencies::kinematic_preset("cwru6205").unwrap()
+    }
+
+    #[test]
+    fn errors_name_the_input() {
+        let g = geometry();
+        let o = AnalysisOptions::default();
+        let x = vec![0.0; 1000];
+        let msg = |r: Result<AnalysisOutput, AnalysisError>| r.unwrap_err().to_string();
+        assert_eq!(
+            msg(analyze(&x, 0.0, &g, 30.0, &o)),
+            "sample_rate: must be > 0 Hz (got 0)"
+        );
+        assert!(msg(analyze(&x, 1e3, &g, -1.0, &o)).starts_with("shaft_hz:"));
+        assert_eq!(
+            msg(analyze(&x[..12], 1e3, &g, 30.0, &o)),
+            "samples: 12 samples is too short for 5 levels (need >= 64)"
+        );
+        let mut y = x.clone();
+        y[17] = f64::NAN;
+        assert_eq!(
+            msg(analyze(&y, 1e3, &g, 30.0, &o)),
+            "samples[17]: not a finite number"
+        );
+        let bad = AnalysisOptions {
+            window: Some([0.5, 0.2]),
+            ..o.clone()
+        };
+        assert!(msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("window:"));
+        let bad = AnalysisOptions {
+            biort: "nope".into(),
+            ..o.clone()
+        };
+        assert!(
+            msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("biort: unknown filter set 'nope'")
+        );
+        let bad = AnalysisOptions {
+            band: Some([600.0, 700.0]),
+            ..o.clone()
+        };
+        assert!(msg(analyze(&x, 1e3, &g, 30.0, &bad)).starts_with("band:"));
+        let bad_g = KinematicGeometry {
+            pitch_diameter: 0.001,
+            ..g
+        };
+        assert!(msg(analyze(&x, 1e3, &bad_g, 30.0, &o)).starts_with("geometry.pitch_diameter:"));
+    }
+
+    #[test]
+    fn window_selects_samples_and_is_reported() {
+        let g = geometry();
+        let x: Vec<f64> = (0..4000)
+            .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+            .collect();
+        let o = AnalysisOptions {
+            window: Some([1.0, 3.0]),
+            ..Default::default()
+        };
+        let out = analyze(&x, 1000.0, &g, 30.0, &o).unwrap();
+        assert_eq!(out.report.n_samples, 2000);
+        assert_eq!(out.report.window, [1.0, 3.0]);
+        assert_eq!(out.level_spectra.len(), 5);
+        assert_eq!(out.report.level_kurtosis.len(), 5);
+    }
+
+    #[test]
+    fn all_levels_on_request() {
+        let x: Vec<f64> = (0..4096)
+            .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+            .collect();
+        let o = AnalysisOptions {
+            report_all_levels: true,
+            levels: 4,
+            ..Default::default()
+        };
+        let r = analyze(&x, 1000.0, &geometry(), 30.0, &o).unwrap().report;
+        assert_eq!(
+            r.all_levels.iter().map(|c| c.level).collect::<Vec<_>>(),
+            vec![1, 2, 3, 4]
+        );
+        let r = analyze(&x, 1000.0, &geometry(), 30.0, &AnalysisOptions::default())
+            .unwrap()
+            .report;
+        assert!(r.all_levels.is_empty());
+    }
+
+    #[test]
+    fn options_json_defaults() {
+        let o: AnalysisOptions = serde_json::from_str(r#"{"levels": 4}"#).unwrap();
+        assert_eq!(o.levels, 4);
+        assert_eq!(o.qshift, "qshift_b");
+        assert_eq!(o.search_band_pct, 5.0);
+    }
+}

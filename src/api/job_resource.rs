@@ -1,0 +1,162 @@
+//! The job resource, shared by both job kinds (simulations and queued analyses): read
+//! (with ETag and long poll), list, cancel, delete.
+
+use super::extract::QueryParams;
+use super::problem::{ApiResult, Problem};
+use super::state::AppState;
+use super::views::{etag, etag_matches, job_json, job_location};
+use crate::store::{Job, JobKind, JobState, ListFilter};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use serde_json::{json, Value};
+use std::time::{Duration, Instant};
+
+/// Longest long poll (`wait`), s.
+const MAX_WAIT: f64 = 60.0;
+
+/// A job of the expected kind, or 404 (ids of the other kind are not visible here).
+pub async fn load(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
+    let job = state.store.get_job(id).await?;
+    if job.kind != kind {
+        return Err(Problem::not_found(format!(
+            "no {} with id {id}",
+            kind.as_str()
+        )));
+    }
+    Ok(job)
+}
+
+pub fn job_response(status: StatusCode, job: &Job) -> Response {
+    let mut res = (status, Json(job_json(job))).into_response();
+    let h = res.headers_mut();
+    if let Ok(v) = HeaderValue::from_str(&etag(job)) {
+        h.insert(header::ETAG, v);
+    }
+    if let Ok(v) = HeaderValue::from_str(&job_location(job)) {
+        h.insert(header::LOCATION, v);
+    }
+    h.insert(header::CACHE_CONTROL, HeaderValue::from_static("no-cache"));
+    res
+}
+
+fn not_modified(job: &Job) -> Response {
+    let mut res = StatusCode::NOT_MODIFIED.into_response();
+    if let Ok(v) = HeaderValue::from_str(&etag(job)) {
+        res.headers_mut().insert(header::ETAG, v);
+    }
+    res
+}
+
+pub async fn get_job(
+    state: AppState,
+    kind: JobKind,
+    id: String,
+    headers: HeaderMap,
+    q: Option<String>,
+) -> ApiResult<Response> {
+    let q = QueryParams::parse(q.as_deref())?;
+    let wait = q.f64("wait")?.unwrap_or(0.0);
+    if !(0.0..=MAX_WAIT).contains(&wait) {
+        return Err(Problem::bad_request(format!(
+            "query parameter 'wait' must be in [0, {MAX_WAIT}] s"
+        )));
+    }
+    let inm = headers
+        .get(header::IF_NONE_MATCH)
+        .and_then(|v| v.to_str().ok())
+        .map(str::to_string);
+    let deadline = Instant::now() + Duration::from_secs_f64(wait);
+    loop {
+        let job = load(&state, kind, &id).await?;
+        let unchanged = inm.as_deref().is_some_and(|t| etag_matches(t, &etag(&job)));
+        if !unchanged {
+            return Ok(job_response(StatusCode::OK, &job));
+        }
+        // Long poll: with `wait`, hold an unchanged answer until the job changes. `*` names
+        // no version to wait past, so it is answered at once.
+        let wildcard = inm.as_deref().is_some_and(|t| t.trim() == "*");
+        if wildcard || job.state.is_finished() || Instant::now() >= deadline {
+            return Ok(not_modified(&job));
+        }
+        tokio::time::sleep(Duration::from_millis(200)).await;
+    }
+}
+
+pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResult<Response> {
+    let q = QueryParams::parse(q.as_deref())?;
+    let job_state = match q.str("state") {
+        None => None,
+        Some(s) => Some(JobState::parse(s).ok_or_else(|| {
+            Problem::bad_request(format!("query parameter 'state' = '{s}': expected queued, running, succeeded, failed or cancelled"))
+        })?),
+    };
+    let limit = q.get::<i64>("limit")?.unwrap_or(50);
+    if !(1..=500).contains(&limit) {
+        return Err(Problem::bad_request(
+            "query parameter 'limit' must be in 1..=500",
+        ));
+    }
+    let before = match q.str("cursor") {
+        None => None,
+        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| {
+            Problem::bad_request(format!(
+                "query parameter 'cursor' = '{c}' is not a cursor from a previous page"
+            ))
+        })?),
+    };
+    let page = state
+        .store
+        .list_jobs(&ListFilter {
+            kind: Some(kind),
+            state: job_state,
+            before,
+            limit,
+        })
+        .await?;
+    let items: Vec<Value> = page.jobs.iter().map(job_json).collect();
+    let next = page.next.map(|n| n.to_string());
+    let mut body = json!({ "items": items, "next_cursor": next });
+    if let Some(n) = &next {
+        let mut link = format!(
+            "{}?cursor={n}&limit={limit}",
+            super::views::collection(kind)
+        );
+        if let Some(s) = job_state {
+            link.push_str(&format!("&state={s}"));
+        }
+        body["next"] = json!(link);
+    }
+    Ok(Json(body).into_response())
+}
+
+pub async fn cancel(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
+    load(&state, kind, &id).await?;
+    let job = state.store.request_cancel(&id).await?;
+    Ok(job_response(StatusCode::ACCEPTED, &job))
+}
+
+pub async fn delete(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
+    load(&state, kind, &id).await?;
+    state.store.delete_job(&id).await?;
+    Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+/// The job, if it succeeded; 409 otherwise (with its state).
+pub async fn succeeded(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
+    let job = load(state, kind, id).await?;
+    if job.state != JobState::Succeeded {
+        let why = match &job.error {
+            Some(e) => format!(
+                "job {id} is {} ({}: {}); results exist only for succeeded jobs",
+                job.state, e.kind, e.message
+            ),
+            None => format!(
+                "job {id} is {}; results exist only for succeeded jobs",
+                job.state
+            ),
+        };
+        return Err(Problem::conflict(why, Some(job.state.as_str())));
+    }
+    Ok(job)
+}

@@ -1,0 +1,287 @@
+//! Results of succeeded jobs: the stored record, and envelope spectra with the
+//! theoretical markers and the identified peaks. Records are read back as types.
+
+use super::extract::QueryParams;
+use super::job_resource::succeeded;
+use super::problem::{ApiResult, Problem};
+use super::state::AppState;
+use super::views::etag;
+use crate::jobs::artifacts::spectrum_artifact_name;
+use crate::jobs::record::{AnalysisJobRecord, AnalysisRecord, SimulationRecord};
+use crate::store::blob::decode_f32le;
+use crate::store::{ArtifactMeta, Job, JobKind};
+use axum::http::{header, HeaderValue};
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use bearing_core::signal::analysis::MAX_LEVELS;
+use bearing_core::signal::frequencies::CharacteristicFrequencies;
+use bearing_core::signal::Identification;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use serde_json::{json, Value};
+
+/// `GET .../result`: the stored record with the job's id (and solver statistics).
+pub async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
+    let job = succeeded(&state, kind, &id).await?;
+    let mut body = job.result.clone().unwrap_or(Value::Null);
+    if let Value::Object(m) = &mut body {
+        m.insert("id".into(), json!(job.id));
+        if job.stats.is_some() {
+            m.entry("solver")
+                .or_insert(job.stats.clone().unwrap_or(Value::Null));
+        }
+    }
+    let mut res = Json(body).into_response();
+    if let Ok(v) = HeaderValue::from_str(&etag(&job)) {
+        res.headers_mut().insert(header::ETAG, v);
+    }
+    Ok(res)
+}
+
+/// A job's stored record as its type; a record that does not parse is a server fault.
+fn record<T: DeserializeOwned>(job: &Job) -> ApiResult<T> {
+    let value = job
+        .result
+        .clone()
+        .ok_or_else(|| Problem::internal(format!("job {} has no stored result", job.id)))?;
+    serde_json::from_value(value).map_err(|e| {
+        Problem::internal(format!(
+            "stored result of job {} does not parse: {e}",
+            job.id
+        ))
+    })
+}
+
+/// The analysis stored with a succeeded job, or 409 saying why there is none.
+fn stored_analysis(job: &Job) -> ApiResult<AnalysisRecord> {
+    match job.kind {
+        JobKind::Analysis => Ok(record::<AnalysisJobRecord>(job)?.analysis),
+        JobKind::Simulation => {
+            let r: SimulationRecord = record(job)?;
+            r.analysis.ok_or_else(|| {
+                let why = r
+                    .analysis_error
+                    .unwrap_or_else(|| "no analysis was stored".into());
+                Problem::conflict(
+                    format!("job {} has no spectra: {why}", job.id),
+                    Some(job.state.as_str()),
+                )
+            })
+        }
+    }
+}
+
+/// Which spectrum `GET .../spectra` asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SpectrumChoice {
+    Raw,
+    BestComponent,
+    Level(usize),
+}
+
+impl SpectrumChoice {
+    fn name(self) -> &'static str {
+        match self {
+            SpectrumChoice::Raw => "raw",
+            SpectrumChoice::BestComponent => "best_component",
+            SpectrumChoice::Level(_) => "level",
+        }
+    }
+}
+
+/// The query of `GET .../spectra`, parsed.
+struct SpectraQuery {
+    choice: SpectrumChoice,
+    /// Hz.
+    fmax: Option<f64>,
+    /// Marker harmonics; default: the harmonics the analysis searched.
+    harmonics: Option<usize>,
+}
+
+/// Most marker harmonics a request may ask for.
+const MAX_HARMONICS: usize = 50;
+
+fn parse_spectra_query(q: Option<&str>) -> ApiResult<SpectraQuery> {
+    let q = QueryParams::parse(q)?;
+    let level = q.get::<usize>("level")?;
+    if let Some(l) = level {
+        if !(1..=MAX_LEVELS).contains(&l) {
+            return Err(Problem::bad_request(format!(
+                "query parameter 'level' must be in 1..={MAX_LEVELS}"
+            )));
+        }
+    }
+    // `level` alone implies kind=level; with another kind it is ignored.
+    let which = q
+        .str("kind")
+        .unwrap_or(if level.is_some() { "level" } else { "raw" });
+    let fmax = q.f64("fmax")?;
+    if let Some(f) = fmax {
+        if f <= 0.0 {
+            return Err(Problem::bad_request(
+                "query parameter 'fmax' must be > 0 Hz",
+            ));
+        }
+    }
+    let harmonics = q.get::<usize>("harmonics")?;
+    if let Some(h) = harmonics {
+        if !(1..=MAX_HARMONICS).contains(&h) {
+            return Err(Problem::bad_request(format!(
+                "query parameter 'harmonics' must be in 1..={MAX_HARMONICS}"
+            )));
+        }
+    }
+    let choice = match which {
+        "raw" => SpectrumChoice::Raw,
+        "best_component" => SpectrumChoice::BestComponent,
+        "level" => SpectrumChoice::Level(
+            level
+                .ok_or_else(|| Problem::field("level", "required with kind=level (1 = finest)"))?,
+        ),
+        other => {
+            return Err(Problem::bad_request(format!(
+                "query parameter 'kind' = '{other}': expected raw, best_component or level"
+            )))
+        }
+    };
+    Ok(SpectraQuery {
+        choice,
+        fmax,
+        harmonics,
+    })
+}
+
+/// One theoretical line on a spectrum plot.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Marker {
+    /// `bpfo`, `bpfi`, `ftf`, `bsf`, `bsf2` or `shaft`.
+    pub name: &'static str,
+    pub harmonic: usize,
+    /// Hz.
+    pub frequency: f64,
+}
+
+/// `GET .../spectra`.
+pub async fn spectra(
+    state: AppState,
+    kind: JobKind,
+    id: String,
+    q: Option<String>,
+) -> ApiResult<Response> {
+    let query = parse_spectra_query(q.as_deref())?;
+    let job = succeeded(&state, kind, &id).await?;
+    let analysis = stored_analysis(&job)?;
+    let (level, peaks): (Option<usize>, Vec<Identification>) = match query.choice {
+        SpectrumChoice::Raw => (None, analysis.report.raw.clone()),
+        SpectrumChoice::BestComponent => (
+            Some(analysis.report.best_component.level),
+            analysis.report.best_component.identifications.clone(),
+        ),
+        SpectrumChoice::Level(l) => {
+            let r = &analysis.report;
+            let peaks = [&r.best_component, &r.runner_up_component]
+                .into_iter()
+                .chain(r.all_levels.iter())
+                .find(|c| c.level == l)
+                .map(|c| c.identifications.clone())
+                .unwrap_or_default();
+            (Some(l), peaks)
+        }
+    };
+    let which = query.choice.name();
+    let Some(a) = state
+        .store
+        .get_artifact(&id, &spectrum_artifact_name(level))
+        .await?
+    else {
+        return Err(Problem::not_found(format!(
+            "job {id} has no spectrum {which}{}",
+            level.map(|l| format!(" for level {l}")).unwrap_or_default()
+        )));
+    };
+    let ArtifactMeta::Spectrum { df, .. } = a.meta else {
+        return Err(Problem::internal(format!(
+            "artifact {} of job {id} is not a spectrum",
+            a.name
+        )));
+    };
+    let mut amplitude = decode_f32le(&a.data);
+    if let Some(f) = query.fmax {
+        if df > 0.0 {
+            amplitude.truncate(((f / df).floor() as usize + 1).min(amplitude.len()));
+        }
+    }
+    let f_top = df * amplitude.len().saturating_sub(1) as f64;
+    let harmonics = query.harmonics.unwrap_or(analysis.options.harmonics).max(1);
+    let markers = markers(&analysis.report.theory, harmonics, f_top);
+    let peaks: Vec<Identification> = peaks
+        .into_iter()
+        .filter(|p| p.identified_hz <= f_top)
+        .collect();
+    Ok(Json(json!({
+        "id": id,
+        "kind": which,
+        "level": level,
+        "df": df,
+        "fmax": f_top,
+        "amplitude": amplitude,
+        "markers": markers,
+        "peaks": peaks,
+    }))
+    .into_response())
+}
+
+/// Theoretical characteristic frequencies and their harmonics up to `f_top` (Hz), named
+/// as the stored `theory` object names them.
+fn markers(theory: &CharacteristicFrequencies, harmonics: usize, f_top: f64) -> Vec<Marker> {
+    let lines = [
+        ("bpfi", theory.bpfi),
+        ("bpfo", theory.bpfo),
+        ("bsf", theory.bsf),
+        ("bsf2", theory.bsf2),
+        ("ftf", theory.ftf),
+        ("shaft", theory.shaft_hz),
+    ];
+    let mut out = vec![];
+    for (name, f) in lines {
+        if !(f > 0.0) {
+            continue;
+        }
+        for h in 1..=harmonics {
+            let fh = f * h as f64;
+            if fh <= f_top {
+                out.push(Marker {
+                    name,
+                    harmonic: h,
+                    frequency: fh,
+                });
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn markers_repeat_each_line_up_to_the_top_frequency() {
+        let t = CharacteristicFrequencies {
+            shaft_hz: 10.0,
+            bpfo: 100.0,
+            bpfi: 150.0,
+            ftf: 4.0,
+            bsf: 50.0,
+            bsf2: 100.0,
+        };
+        let m = markers(&t, 5, 400.0);
+        let bpfo: Vec<f64> = m
+            .iter()
+            .filter(|m| m.name == "bpfo")
+            .map(|m| m.frequency)
+            .collect();
+        assert_eq!(bpfo, vec![100.0, 200.0, 300.0, 400.0]);
+        assert_eq!(m.iter().filter(|m| m.name == "ftf").count(), 5);
+    }
+}

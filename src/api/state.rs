@@ -1,0 +1,21 @@
+//! What every handler shares.
+
+use crate::config::Config;
+use crate::metrics::Metrics;
+use crate::store::Store;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use tokio::sync::{Notify, Semaphore};
+
+#[derive(Clone)]
+pub struct AppState {
+    pub store: Arc<dyn Store>,
+    pub config: Arc<Config>,
+    pub metrics: Arc<Metrics>,
+    /// Wakes idle workers when a job is queued.
+    pub wake: Arc<Notify>,
+    /// False once shutdown began (readiness).
+    pub ready: Arc<AtomicBool>,
+    /// Bounds direct (non-queued) computations: quasi-static solves, small analyses.
+    pub direct: Arc<Semaphore>,
+}

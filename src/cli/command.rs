@@ -1,0 +1,45 @@
+//! The `bearing-sim` command line: its subcommands and their dispatch.
+
+use super::result::CliResult;
+use super::{analyze, bench, quasi_static, run, scene_cmd, serve_cmd};
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "bearing-sim",
+    version,
+    about = "Angular contact ball bearing dynamics and fault diagnosis"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scene (file or preset name) and write a JSON result.
+    Run(run::RunArgs),
+    /// Print the quasi-static (Jones-Harris) solution of a scene as JSON.
+    QuasiStatic(quasi_static::QuasiStaticArgs),
+    /// Print a preset scene as JSON (a starting point for your own scene files).
+    Scene(scene_cmd::SceneArgs),
+    /// Analyse a measured or simulated vibration signal.
+    Analyze(analyze::AnalyzeArgs),
+    /// Run the HTTP service.
+    Serve(serve_cmd::ServeArgs),
+    /// Time the engine and the analysis on this machine.
+    Bench(bench::BenchArgs),
+}
+
+impl Cli {
+    pub fn run(self) -> CliResult {
+        match self.command {
+            Command::Run(a) => run::main(a),
+            Command::QuasiStatic(a) => quasi_static::main(a),
+            Command::Scene(a) => scene_cmd::main(a),
+            Command::Analyze(a) => analyze::main(a),
+            Command::Serve(a) => serve_cmd::main(a),
+            Command::Bench(a) => bench::main(a),
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! A simulation job: reload the valid scene, run the engine, analyse the outer-ring
+//! acceleration over the run's steady window, and build the stored record and artifacts.
+
+use super::artifacts::{channel_artifacts, spectrum_artifacts};
+use super::control::Control;
+use super::outcome::{to_stored, JobFailure, JobOutput};
+use super::record::{
+    AnalysisRecord, CageRecord, ChannelInfo, ContactRecord, ContactUnits, MinMeanMax,
+    SimulationRecord, SpeedRecord,
+};
+use crate::store::{Artifact, FailureKind};
+use bearing_core::scene::ValidScene;
+use bearing_core::signal::analysis::{AnalysisOptions, AnalysisOutput};
+use bearing_core::simulation::{simulate, BallSummary, RunControl, SimError, SimResult};
+use bearing_core::simulation_analysis::analyze_simulation;
+
+/// Channels tried for the diagnosis, in order.
+const ANALYSIS_CHANNELS: &[&str] = &["outer_ring_accel_z", "outer_ring_accel_y"];
+
+pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, JobFailure> {
+    // Parsing validates: a stored scene that no longer validates fails the job here.
+    let scene: ValidScene = serde_json::from_value(input.clone()).map_err(|e| {
+        JobFailure::new(
+            FailureKind::Invalid,
+            format!("stored scene does not parse: {e}"),
+        )
+    })?;
+    let mut on_progress = |f: f64| ctl.set_progress(f);
+    let run = simulate(
+        &scene,
+        RunControl {
+            cancel: Some(&ctl.cancel),
+            progress: Some(&mut on_progress),
+        },
+    );
+    let result = run.map_err(|e| match e {
+        e if e.is_cancelled() => JobFailure::new(FailureKind::Cancelled, e.to_string()),
+        e @ (SimError::InitialState(_) | SimError::Dynamics(_)) => {
+            JobFailure::new(FailureKind::Numerical, e.to_string())
+        }
+    })?;
+    let stats = serde_json::to_value(&result.summary.stats).ok();
+    // A NaN that slipped past the engine fails the job rather than poisoning stored results.
+    for ch in &result.channels.channels {
+        if let Some(k) = ch.data.iter().position(|x| !x.is_finite()) {
+            return Err(JobFailure {
+                kind: FailureKind::Numerical,
+                message: format!("channel {} has a non-finite sample at index {k}", ch.name),
+                stats,
+            });
+        }
+    }
+    let (record, artifacts) = summarize(&scene, &result);
+    Ok(JobOutput {
+        result: to_stored(&record)?,
+        stats,
+        artifacts,
+    })
+}
+
+/// The stored record and artifacts of a successful run.
+pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, Vec<Artifact>) {
+    let s = &result.summary;
+    let mut artifacts = channel_artifacts(&result.channels);
+    let (analysis, analysis_error) = match analyse(scene, result) {
+        Ok((channel, options, out)) => {
+            artifacts.extend(spectrum_artifacts(&out));
+            let record = AnalysisRecord {
+                report: out.report,
+                options,
+                channel: Some(channel),
+            };
+            (Some(record), None)
+        }
+        Err(msg) => (None, Some(msg)),
+    };
+    let stat = |f: fn(&BallSummary) -> f64| MinMeanMax::of(s.balls.iter().map(f));
+    let record = SimulationRecord {
+        scene_name: scene.name.clone(),
+        solver: s.stats.clone(),
+        steady_window: s.steady_window,
+        shaft_speed: SpeedRecord {
+            mean: s.mean_shaft_speed,
+            unit: "rad/s".into(),
+        },
+        cage: CageRecord {
+            mean_speed: s.mean_cage_speed,
+            epicyclic_speed: s.epicyclic_cage_speed,
+            slip: s.cage_slip,
+            unit: "rad/s".into(),
+        },
+        mean_inner_ring_reaction: s.mean_inner_ring_reaction,
+        contact: ContactRecord {
+            inner_load: stat(|b| b.inner_load),
+            outer_load: stat(|b| b.outer_load),
+            inner_contact_angle: stat(|b| b.inner_contact_angle),
+            outer_contact_angle: stat(|b| b.outer_contact_angle),
+            units: ContactUnits {
+                load: "N".into(),
+                angle: "rad".into(),
+            },
+        },
+        balls: s.balls.clone(),
+        channels: result
+            .channels
+            .channels
+            .iter()
+            .map(|c| ChannelInfo {
+                name: c.name.clone(),
+                unit: c.unit.clone(),
+                samples: c.data.len(),
+            })
+            .collect(),
+        sample_rate: result.channels.sample_rate,
+        start_time: result.channels.start_time,
+        analysis,
+        analysis_error,
+    };
+    (record, artifacts)
+}
+
+/// Analyse the first acceleration channel recorded, over the run's steady window.
+fn analyse(
+    scene: &ValidScene,
+    result: &SimResult,
+) -> Result<(String, AnalysisOptions, AnalysisOutput), String> {
+    let channel = ANALYSIS_CHANNELS
+        .iter()
+        .find(|n| result.channels.get(n).is_some())
+        .ok_or_else(|| {
+            format!(
+                "no channel named {} to analyse",
+                ANALYSIS_CHANNELS.join(" or ")
+            )
+        })?;
+    let options = AnalysisOptions::default();
+    let out = analyze_simulation(result, scene, channel, &options)
+        .map_err(|e| format!("analysis of {channel} not possible: {e}"))?;
+    Ok((channel.to_string(), options, out))
+}
