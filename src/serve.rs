@@ -56,6 +56,7 @@ pub async fn run_until(
         wake,
         ready: ready.clone(),
         direct: Arc::new(Semaphore::new(workers.max(1))),
+        openapi_yaml: api::openapi::yaml(),
     };
     let addr = listener.local_addr()?;
     tracing::info!(%addr, workers, database = %config.database_url, "serving");

@@ -368,8 +368,8 @@ fn cycle_through(s: usize, scc: &[usize], adj: &[Vec<usize>]) -> Vec<usize> {
                 path.reverse();
                 return path;
             }
-            if !prev.contains_key(&w) {
-                prev.insert(w, v);
+            if let std::collections::hash_map::Entry::Vacant(e) = prev.entry(w) {
+                e.insert(v);
                 queue.push_back(w);
             }
         }
@@ -662,7 +662,7 @@ fn literal_end(c: &[char], i: usize) -> Option<usize> {
             return None; // an identifier, or a raw identifier r#name
         }
         let close: Vec<char> = std::iter::once('"')
-            .chain(std::iter::repeat('#').take(hashes))
+            .chain(std::iter::repeat_n('#', hashes))
             .collect();
         return Some(
             (j + 1..c.len())

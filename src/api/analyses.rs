@@ -5,45 +5,115 @@
 use super::direct::run_direct;
 use super::extract::{as_object, content_type, from_value, parse_value, QueryParams};
 use super::job_resource;
+use super::openapi::params::{
+    IdempotencyKey, IfNoneMatch, JobId, ListQuery, RawAnalysisQuery, RawSamples, SpectraQuery,
+    WaitQuery,
+};
+use super::openapi::responses::{
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+};
 use super::problem::{ApiResult, FieldProblem, Problem};
-use super::results;
+use super::results::{self, AnalysisResult, SpectrumView};
 use super::state::AppState;
 use super::submission::enqueue;
+use super::views::{JobPage, JobView};
 use crate::jobs::{run_analysis, AnalysisInput};
 use crate::store::blob::encode_f64le;
-use crate::store::JobKind;
+use crate::store::{JobKind, JobState};
 use axum::body::Bytes;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_core::signal::analysis::AnalysisOptions;
+use bearing_core::signal::analysis::{AnalysisOptions, AnalysisReport, Spectrum};
 use bearing_core::signal::frequencies::{
     kinematic_preset, kinematic_preset_names, KinematicGeometry,
 };
-use serde::Deserialize;
-use serde_json::json;
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
 
 const KIND: JobKind = JobKind::Analysis;
 
-/// The JSON form of a request.
-#[derive(Deserialize)]
+/// The JSON form of a request: give `preset` or `geometry`, and `shaft_hz` or `shaft_rpm`.
+#[derive(Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
-struct JsonRequest {
+#[schema(example = json!({"samples": [0.0, 0.1, -0.2, 0.05], "sample_rate": 12000, "preset": "cwru6205", "shaft_rpm": 1797}))]
+pub struct AnalysisRequest {
+    /// The signal, in any unit (spectra come out in it).
     samples: Vec<f64>,
+    /// Hz.
+    #[schema(exclusive_minimum = 0.0)]
     sample_rate: f64,
+    /// A kinematic bearing preset (`cwru6205`, `h7005c`).
     #[serde(default)]
     preset: Option<String>,
     #[serde(default)]
     geometry: Option<KinematicGeometry>,
+    /// Shaft frequency, Hz.
     #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
     shaft_hz: Option<f64>,
+    /// Shaft speed, rev/min.
     #[serde(default)]
+    #[schema(exclusive_minimum = 0.0)]
     shaft_rpm: Option<f64>,
+    /// Missing options take their defaults.
     #[serde(default)]
     options: Option<AnalysisOptions>,
 }
 
+/// A small signal analysed directly.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct DirectAnalysis {
+    /// Always `succeeded`.
+    pub state: JobState,
+    pub analysis: AnalysisReport,
+    pub spectra: DirectSpectra,
+}
+
+/// The envelope spectra of a direct analysis.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct DirectSpectra {
+    pub raw: Spectrum,
+    /// The max-kurtosis DTCWT component's.
+    pub best_component: Option<Spectrum>,
+}
+
+/// Analyse a measured signal
+///
+/// JSON samples, or a raw body of little-endian f32 samples
+/// (`Content-Type: application/octet-stream`) described by query parameters. Signals up to
+/// the configured size are answered directly (200); longer ones, or `mode=async`, are queued
+/// as analysis jobs (202, poll `Location`).
+#[utoipa::path(
+    post,
+    path = "/v1/analyses",
+    tag = "analyses",
+    operation_id = "submitAnalysis",
+    params(IdempotencyKey, RawAnalysisQuery),
+    request_body(content(
+        (AnalysisRequest = "application/json"),
+        (RawSamples = "application/octet-stream")
+    )),
+    responses(
+        (status = 200, description = "Small signal, analysed directly.", body = DirectAnalysis),
+        (status = 202, description = "Queued as an analysis job.", body = JobView, headers(
+            ("Location" = String, description = "Path of the job."),
+            ("ETag" = String, description = "Version of the job; send it back in If-None-Match.")
+        ), links(
+                ("getAnalysis" = (operation_id = "getAnalysis", parameters(("id" = "$response.body#/id")))),
+                ("cancelAnalysis" = (operation_id = "cancelAnalysis", parameters(("id" = "$response.body#/id")))),
+                ("getAnalysisResult" = (operation_id = "getAnalysisResult", parameters(("id" = "$response.body#/id")))),
+                ("getAnalysisSpectra" = (operation_id = "getAnalysisSpectra", parameters(("id" = "$response.body#/id")))),
+                ("deleteAnalysis" = (operation_id = "deleteAnalysis", parameters(("id" = "$response.body#/id"))))
+            )),
+        (status = 400, response = BadRequest),
+        (status = 413, response = TooLarge),
+        (status = 415, response = UnsupportedMediaType),
+        (status = 422, response = Invalid),
+        (status = 429, response = QueueFull),
+    )
+)]
 pub async fn submit(
     State(state): State<AppState>,
     headers: HeaderMap,
@@ -95,21 +165,27 @@ pub async fn submit(
             e.to_string(),
         )
     })?;
-    let best = out.report.best_component.level;
-    Ok(Json(json!({
-        "state": "succeeded",
-        "analysis": out.report,
-        "spectra": {
-            "raw": out.raw_spectrum,
-            "best_component": best.checked_sub(1).and_then(|i| out.level_spectra.get(i)),
+    let best = out
+        .report
+        .best_component
+        .level
+        .checked_sub(1)
+        .and_then(|i| out.level_spectra.get(i))
+        .cloned();
+    Ok(Json(DirectAnalysis {
+        state: JobState::Succeeded,
+        analysis: out.report,
+        spectra: DirectSpectra {
+            raw: out.raw_spectrum,
+            best_component: best,
         },
-    }))
+    })
     .into_response())
 }
 
 fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
     let v = serde_json::Value::Object(as_object(parse_value(body)?)?);
-    let r: JsonRequest = from_value(v, "")?;
+    let r: AnalysisRequest = from_value(v, "")?;
     let geometry = geometry(r.preset.as_deref(), r.geometry, "preset")?;
     let shaft_hz = shaft_hz(r.shaft_hz, r.shaft_rpm)?;
     let input = AnalysisInput {
@@ -123,7 +199,7 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
 }
 
 fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
-    if body.len() % 4 != 0 {
+    if !body.len().is_multiple_of(4) {
         return Err(Problem::field(
             "$",
             format!(
@@ -297,6 +373,27 @@ fn check(input: &AnalysisInput, samples: &[f64]) -> ApiResult<()> {
     }
 }
 
+/// State of a queued analysis
+///
+/// ETag, `If-None-Match` and the `wait` long poll work as for simulations.
+#[utoipa::path(
+    get,
+    path = "/v1/analyses/{id}",
+    tag = "analyses",
+    operation_id = "getAnalysis",
+    params(JobId, IfNoneMatch, WaitQuery),
+    responses(
+        (status = 200, description = "The job.", body = JobView, headers(
+            ("ETag" = String, description = "Version of the job; send it back in If-None-Match."),
+            ("Location" = String, description = "Path of the job.")
+        )),
+        (status = 304, description = "Unchanged since the ETag given.", headers(
+            ("ETag" = String, description = "Version of the job.")
+        )),
+        (status = 400, response = BadRequest),
+        (status = 404, response = NotFound),
+    )
+)]
 pub async fn get(
     State(s): State<AppState>,
     Path(id): Path<String>,
@@ -306,22 +403,91 @@ pub async fn get(
     job_resource::get_job(s, KIND, id, headers, q).await
 }
 
+/// List queued analysis jobs, newest first
+#[utoipa::path(
+    get,
+    path = "/v1/analyses",
+    tag = "analyses",
+    operation_id = "listAnalyses",
+    params(ListQuery),
+    responses(
+        (status = 200, description = "One page.", body = JobPage),
+        (status = 400, response = BadRequest),
+    )
+)]
 pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
     job_resource::list(s, KIND, q).await
 }
 
+/// Cancel a queued or running analysis
+#[utoipa::path(
+    post,
+    path = "/v1/analyses/{id}/cancel",
+    tag = "analyses",
+    operation_id = "cancelAnalysis",
+    params(JobId),
+    responses(
+        (status = 202, description = "Cancelled (queued job) or cancel requested (running job).", body = JobView, headers(
+            ("ETag" = String, description = "Version of the job."),
+            ("Location" = String, description = "Path of the job.")
+        )),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     job_resource::cancel(s, KIND, id).await
 }
 
+/// Delete a finished analysis job
+#[utoipa::path(
+    delete,
+    path = "/v1/analyses/{id}",
+    tag = "analyses",
+    operation_id = "deleteAnalysis",
+    params(JobId),
+    responses(
+        (status = 204, description = "Deleted."),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     job_resource::delete(s, KIND, id).await
 }
 
+/// Report of a succeeded analysis job
+#[utoipa::path(
+    get,
+    path = "/v1/analyses/{id}/result",
+    tag = "analyses",
+    operation_id = "getAnalysisResult",
+    params(JobId),
+    responses(
+        (status = 200, description = "The report.", body = AnalysisResult),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     results::result(s, KIND, id).await
 }
 
+/// Envelope spectrum of a succeeded analysis job
+#[utoipa::path(
+    get,
+    path = "/v1/analyses/{id}/spectra",
+    tag = "analyses",
+    operation_id = "getAnalysisSpectra",
+    params(JobId, SpectraQuery),
+    responses(
+        (status = 200, description = "The spectrum.", body = SpectrumView),
+        (status = 400, response = BadRequest),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+        (status = 422, response = Invalid),
+    )
+)]
 pub async fn spectra(
     State(s): State<AppState>,
     Path(id): Path<String>,

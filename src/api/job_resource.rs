@@ -4,12 +4,11 @@
 use super::extract::QueryParams;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
-use super::views::{etag, etag_matches, job_json, job_location};
+use super::views::{collection, etag, etag_matches, job_location, JobPage, JobView};
 use crate::store::{Job, JobKind, JobState, ListFilter};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde_json::{json, Value};
 use std::time::{Duration, Instant};
 
 /// Longest long poll (`wait`), s.
@@ -28,7 +27,7 @@ pub async fn load(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
 }
 
 pub fn job_response(status: StatusCode, job: &Job) -> Response {
-    let mut res = (status, Json(job_json(job))).into_response();
+    let mut res = (status, Json(JobView::of(job))).into_response();
     let h = res.headers_mut();
     if let Ok(v) = HeaderValue::from_str(&etag(job)) {
         h.insert(header::ETAG, v);
@@ -114,20 +113,20 @@ pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResul
             limit,
         })
         .await?;
-    let items: Vec<Value> = page.jobs.iter().map(job_json).collect();
-    let next = page.next.map(|n| n.to_string());
-    let mut body = json!({ "items": items, "next_cursor": next });
-    if let Some(n) = &next {
-        let mut link = format!(
-            "{}?cursor={n}&limit={limit}",
-            super::views::collection(kind)
-        );
+    let next_cursor = page.next.map(|n| n.to_string());
+    let next = next_cursor.as_ref().map(|n| {
+        let mut link = format!("{}?cursor={n}&limit={limit}", collection(kind));
         if let Some(s) = job_state {
             link.push_str(&format!("&state={s}"));
         }
-        body["next"] = json!(link);
-    }
-    Ok(Json(body).into_response())
+        link
+    });
+    Ok(Json(JobPage {
+        items: page.jobs.iter().map(JobView::of).collect(),
+        next_cursor,
+        next,
+    })
+    .into_response())
 }
 
 pub async fn cancel(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {

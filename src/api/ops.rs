@@ -1,21 +1,42 @@
 //! Operational endpoints: health, readiness, metrics, the OpenAPI document, 404 fallback.
 
+use super::openapi::responses::Unavailable;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
+use super::views::Status;
 use crate::store::JobState;
 use axum::extract::State;
 use axum::http::{header, Uri};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde_json::json;
 use std::sync::atomic::Ordering;
 
-pub const OPENAPI_YAML: &str = include_str!("../../openapi.yaml");
-
+/// Liveness
+#[utoipa::path(
+    get,
+    path = "/healthz",
+    tag = "operations",
+    operation_id = "healthz",
+    responses((status = 200, description = "The process serves requests.", body = Status))
+)]
 pub async fn healthz() -> Response {
-    Json(json!({"status": "ok"})).into_response()
+    Json(Status {
+        status: "ok".into(),
+    })
+    .into_response()
 }
 
+/// Readiness (database reachable, not shutting down)
+#[utoipa::path(
+    get,
+    path = "/readyz",
+    tag = "operations",
+    operation_id = "readyz",
+    responses(
+        (status = 200, description = "Ready.", body = Status),
+        (status = 503, response = Unavailable),
+    )
+)]
 pub async fn readyz(State(state): State<AppState>) -> ApiResult<Response> {
     if !state.ready.load(Ordering::SeqCst) {
         return Err(Problem::unavailable("shutting down"));
@@ -25,9 +46,20 @@ pub async fn readyz(State(state): State<AppState>) -> ApiResult<Response> {
         .ping()
         .await
         .map_err(|e| Problem::unavailable(format!("database not reachable: {e}")))?;
-    Ok(Json(json!({"status": "ready"})).into_response())
+    Ok(Json(Status {
+        status: "ready".into(),
+    })
+    .into_response())
 }
 
+/// Prometheus metrics (queue depth, jobs by state, job durations, HTTP latencies)
+#[utoipa::path(
+    get,
+    path = "/metrics",
+    tag = "operations",
+    operation_id = "metrics",
+    responses((status = 200, description = "Prometheus text exposition format 0.0.4.", body = String, content_type = "text/plain"))
+)]
 pub async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let counts = state.store.counts().await?;
     let by_state: Vec<(&str, i64)> = JobState::ALL
@@ -45,8 +77,20 @@ pub async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
         .into_response())
 }
 
-pub async fn openapi() -> Response {
-    ([(header::CONTENT_TYPE, "application/yaml")], OPENAPI_YAML).into_response()
+/// This document
+#[utoipa::path(
+    get,
+    path = "/openapi.yaml",
+    tag = "operations",
+    operation_id = "openapi",
+    responses((status = 200, description = "OpenAPI 3.1 document.", body = Object, content_type = "application/yaml"))
+)]
+pub async fn openapi(State(state): State<AppState>) -> Response {
+    (
+        [(header::CONTENT_TYPE, "application/yaml")],
+        state.openapi_yaml,
+    )
+        .into_response()
 }
 
 pub async fn no_route(uri: Uri) -> Problem {

@@ -1,31 +1,39 @@
 //! RFC 9457 problem details: the one shape of every error response.
 
-use crate::store::StoreError;
+use crate::store::{JobState, StoreError};
 use axum::body::Body;
 use axum::http::{header, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use bearing_core::scene::{FieldError, ValidationErrors};
 use serde::Serialize;
+use utoipa::ToSchema;
 
 pub const PROBLEM_JSON: &str = "application/problem+json";
 
 /// One field problem: `path` is dotted from the request body's root (`scene.bearing.width`).
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct FieldProblem {
     pub path: String,
     pub message: String,
 }
 
-#[derive(Debug, Clone, Serialize)]
+/// RFC 9457 problem details.
+#[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct Problem {
+    /// `about:blank` for plain HTTP errors, `urn:bearing-sim:problem:<slug>` otherwise.
     #[serde(rename = "type")]
     pub type_: String,
     pub title: String,
+    /// The HTTP status.
     pub status: u16,
     pub detail: String,
+    /// Every field problem, with its path from the request body's root.
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(required = false, nullable = false)]
     pub errors: Option<Vec<FieldProblem>>,
+    /// The job's state, for a request not possible in it (409).
     #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(required = false, nullable = false, value_type = JobState)]
     pub job_state: Option<String>,
     #[serde(skip)]
     pub retry_after: Option<u64>,

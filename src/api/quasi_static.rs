@@ -2,15 +2,35 @@
 
 use super::direct::run_direct;
 use super::extract::{as_object, from_value, parse_value, require_json};
+use super::openapi::responses::{BadRequest, Invalid, TooLarge, UnsupportedMediaType};
 use super::problem::{ApiResult, Problem};
-use super::scene_input::resolve_scene;
+use super::scene_input::{resolve_scene, QuasiStaticRequest};
 use super::state::AppState;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use bearing_core::quasi_static::QuasiStaticSolution;
 
+/// Quasi-static (Jones-Harris) equilibrium, answered directly
+#[utoipa::path(
+    post,
+    path = "/v1/quasi-static",
+    tag = "models",
+    operation_id = "solveQuasiStatic",
+    request_body(
+        content = QuasiStaticRequest,
+        examples(("preset" = (value = json!({"preset": "h7005c", "shaft_rpm": 10000}))))
+    ),
+    responses(
+        (status = 200, description = "The equilibrium.", body = QuasiStaticSolution),
+        (status = 400, response = BadRequest),
+        (status = 413, response = TooLarge),
+        (status = 415, response = UnsupportedMediaType),
+        (status = 422, response = Invalid),
+    )
+)]
 pub async fn solve(
     State(state): State<AppState>,
     headers: HeaderMap,

@@ -18,20 +18,39 @@ use bearing_core::signal::frequencies::CharacteristicFrequencies;
 use bearing_core::signal::Identification;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
-use serde_json::{json, Value};
+use utoipa::ToSchema;
 
-/// `GET .../result`: the stored record with the job's id (and solver statistics).
+/// `GET /v1/simulations/{id}/result`: the stored record with the job's id.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct SimulationResult {
+    pub id: String,
+    #[serde(flatten)]
+    pub record: SimulationRecord,
+}
+
+/// `GET /v1/analyses/{id}/result`: the stored record with the job's id.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct AnalysisResult {
+    pub id: String,
+    #[serde(flatten)]
+    pub record: AnalysisJobRecord,
+}
+
+/// `GET .../result`: the stored record of a succeeded job, with its id.
 pub async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
     let job = succeeded(&state, kind, &id).await?;
-    let mut body = job.result.clone().unwrap_or(Value::Null);
-    if let Value::Object(m) = &mut body {
-        m.insert("id".into(), json!(job.id));
-        if job.stats.is_some() {
-            m.entry("solver")
-                .or_insert(job.stats.clone().unwrap_or(Value::Null));
-        }
-    }
-    let mut res = Json(body).into_response();
+    let mut res = match kind {
+        JobKind::Simulation => Json(SimulationResult {
+            id: job.id.clone(),
+            record: record(&job)?,
+        })
+        .into_response(),
+        JobKind::Analysis => Json(AnalysisResult {
+            id: job.id.clone(),
+            record: record(&job)?,
+        })
+        .into_response(),
+    };
     if let Ok(v) = HeaderValue::from_str(&etag(&job)) {
         res.headers_mut().insert(header::ETAG, v);
     }
@@ -80,11 +99,11 @@ enum SpectrumChoice {
 }
 
 impl SpectrumChoice {
-    fn name(self) -> &'static str {
+    fn kind(self) -> SpectrumKind {
         match self {
-            SpectrumChoice::Raw => "raw",
-            SpectrumChoice::BestComponent => "best_component",
-            SpectrumChoice::Level(_) => "level",
+            SpectrumChoice::Raw => SpectrumKind::Raw,
+            SpectrumChoice::BestComponent => SpectrumKind::BestComponent,
+            SpectrumChoice::Level(_) => SpectrumKind::Level,
         }
     }
 }
@@ -151,8 +170,46 @@ fn parse_spectra_query(q: Option<&str>) -> ApiResult<SpectraQuery> {
     })
 }
 
+/// An envelope spectrum with the theoretical lines and the peaks identified in it.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct SpectrumView {
+    pub id: String,
+    pub kind: SpectrumKind,
+    /// DTCWT level (1 = finest), null for the raw spectrum.
+    pub level: Option<usize>,
+    /// Bin width, Hz: bin `k` is at `k df`.
+    pub df: f64,
+    /// Frequency of the last bin returned, Hz.
+    pub fmax: f64,
+    /// Amplitude per bin, unit of the analysed signal (Hann window, single-sided).
+    pub amplitude: Vec<f64>,
+    pub markers: Vec<Marker>,
+    /// Identifications in this spectrum (those below `fmax`).
+    pub peaks: Vec<Identification>,
+}
+
+/// Which envelope spectrum: of the raw signal, of the max-kurtosis DTCWT component, or of
+/// one DTCWT level.
+#[derive(Debug, Clone, Copy, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SpectrumKind {
+    Raw,
+    BestComponent,
+    Level,
+}
+
+impl SpectrumKind {
+    fn as_str(self) -> &'static str {
+        match self {
+            SpectrumKind::Raw => "raw",
+            SpectrumKind::BestComponent => "best_component",
+            SpectrumKind::Level => "level",
+        }
+    }
+}
+
 /// One theoretical line on a spectrum plot.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, ToSchema)]
 pub struct Marker {
     /// `bpfo`, `bpfi`, `ftf`, `bsf`, `bsf2` or `shaft`.
     pub name: &'static str,
@@ -188,14 +245,15 @@ pub async fn spectra(
             (Some(l), peaks)
         }
     };
-    let which = query.choice.name();
+    let which = query.choice.kind();
     let Some(a) = state
         .store
         .get_artifact(&id, &spectrum_artifact_name(level))
         .await?
     else {
         return Err(Problem::not_found(format!(
-            "job {id} has no spectrum {which}{}",
+            "job {id} has no spectrum {}{}",
+            which.as_str(),
             level.map(|l| format!(" for level {l}")).unwrap_or_default()
         )));
     };
@@ -218,16 +276,16 @@ pub async fn spectra(
         .into_iter()
         .filter(|p| p.identified_hz <= f_top)
         .collect();
-    Ok(Json(json!({
-        "id": id,
-        "kind": which,
-        "level": level,
-        "df": df,
-        "fmax": f_top,
-        "amplitude": amplitude,
-        "markers": markers,
-        "peaks": peaks,
-    }))
+    Ok(Json(SpectrumView {
+        id,
+        kind: which,
+        level,
+        df,
+        fmax: f_top,
+        amplitude,
+        markers,
+        peaks,
+    })
     .into_response())
 }
 
@@ -244,7 +302,8 @@ fn markers(theory: &CharacteristicFrequencies, harmonics: usize, f_top: f64) -> 
     ];
     let mut out = vec![];
     for (name, f) in lines {
-        if !(f > 0.0) {
+        // a NaN or non-positive line has no marker
+        if f.is_nan() || f <= 0.0 {
             continue;
         }
         for h in 1..=harmonics {

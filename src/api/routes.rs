@@ -1,5 +1,5 @@
-//! The single route table: the router is built from it and a test checks that
-//! `openapi.yaml` documents exactly these paths and methods.
+//! The single route table: the router is built from it and a test checks that the
+//! generated OpenAPI document has exactly these paths and methods.
 
 use super::state::AppState;
 use super::{analyses, ops, presets, quasi_static, simulations};
@@ -72,58 +72,36 @@ pub fn table() -> Vec<RouteDef> {
 mod tests {
     use std::collections::BTreeSet;
 
-    /// (method, path) pairs under `paths:` of the committed spec. The spec is hand-written
-    /// with two-space indentation: paths at depth 1, operations at depth 2.
-    fn spec_operations() -> BTreeSet<(String, String)> {
-        let spec = include_str!("../../openapi.yaml");
-        let mut in_paths = false;
-        let mut current = None::<String>;
-        let mut ops = BTreeSet::new();
-        for line in spec.lines() {
-            if !line.starts_with(' ') && !line.trim().is_empty() {
-                in_paths = line.trim_end() == "paths:";
-                continue;
-            }
-            if !in_paths {
-                continue;
-            }
-            if let Some(p) = line.strip_prefix("  ").filter(|l| l.starts_with('/')) {
-                current = Some(
-                    p.trim_end()
-                        .trim_end_matches(':')
-                        .trim_matches('\'')
-                        .trim_matches('"')
-                        .to_string(),
-                );
-            } else if let Some(m) = line.strip_prefix("    ").filter(|l| !l.starts_with(' ')) {
-                let m = m.trim_end().trim_end_matches(':');
-                if ["get", "put", "post", "delete", "patch", "head", "options"].contains(&m) {
-                    ops.insert((
-                        m.to_string(),
-                        current.clone().expect("operation before any path"),
-                    ));
-                }
-            }
-        }
-        ops
-    }
-
     #[test]
-    fn openapi_documents_exactly_the_routes() {
+    fn the_document_has_exactly_the_routes() {
         let routes: BTreeSet<(String, String)> = super::table()
             .iter()
             .map(|r| (r.method.to_string(), r.path.to_string()))
             .collect();
-        let spec = spec_operations();
-        let undocumented: Vec<_> = routes.difference(&spec).collect();
-        let phantom: Vec<_> = spec.difference(&routes).collect();
+        let doc = crate::api::openapi::document();
+        let mut documented = BTreeSet::new();
+        for (path, item) in &doc.paths.paths {
+            for (method, op) in [
+                ("get", &item.get),
+                ("post", &item.post),
+                ("delete", &item.delete),
+                ("put", &item.put),
+                ("patch", &item.patch),
+            ] {
+                if op.is_some() {
+                    documented.insert((method.to_string(), path.clone()));
+                }
+            }
+        }
+        let undocumented: Vec<_> = routes.difference(&documented).collect();
+        let phantom: Vec<_> = documented.difference(&routes).collect();
         assert!(
             undocumented.is_empty(),
-            "routes missing from openapi.yaml: {undocumented:?}"
+            "routes without #[utoipa::path]: {undocumented:?}"
         );
         assert!(
             phantom.is_empty(),
-            "openapi.yaml documents routes the router lacks: {phantom:?}"
+            "documented routes the router lacks: {phantom:?}"
         );
     }
 }

@@ -5,7 +5,69 @@ use super::extract::{from_value, kind_of};
 use super::merge_patch::merge_patch;
 use super::problem::{FieldProblem, Problem};
 use bearing_core::scene::{fault_case_scene, preset_names, FaultCase, Scene, ValidScene};
+use serde::Deserialize;
 use serde_json::{Map, Value};
+use utoipa::ToSchema;
+
+// What the OpenAPI document says a request naming a scene looks like. The handlers parse
+// the body as JSON and resolve it with `resolve_scene` (for its merge patch and its error
+// paths); tests check that these types and that function agree. Only the document and the
+// tests read their fields.
+
+/// An inline scene, or a preset with a fault case and merge-patch overrides.
+#[derive(Deserialize, ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code, clippy::large_enum_variant)] // parsed only in tests
+pub enum SimulationRequest {
+    Inline(InlineScene),
+    Preset(PresetReference),
+}
+
+/// A complete scene.
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code)]
+pub struct InlineScene {
+    pub scene: Scene,
+}
+
+/// A preset scene, with a fault case and a JSON merge patch (RFC 7396) of overrides.
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code)]
+pub struct PresetReference {
+    pub preset: SimulationPreset,
+    /// Default `none`.
+    #[serde(default)]
+    pub fault_case: Option<FaultCase>,
+    /// JSON merge patch (RFC 7396) over the preset scene, e.g. `{"solver": {"duration": 0.02}}`.
+    #[serde(default)]
+    #[schema(value_type = Option<Object>, example = json!({"solver": {"duration": 0.02}}))]
+    pub overrides: Option<Value>,
+}
+
+/// Presets with a full scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum SimulationPreset {
+    H7005c,
+}
+
+/// A scene as for simulations (`scene`, or `preset` with optional `fault_case` and
+/// `overrides`), and a shaft speed (default: the scene's steady speed).
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+#[allow(dead_code)]
+pub struct QuasiStaticRequest {
+    pub scene: Option<Scene>,
+    pub preset: Option<SimulationPreset>,
+    pub fault_case: Option<FaultCase>,
+    #[schema(value_type = Option<Object>)]
+    pub overrides: Option<Value>,
+    /// Shaft speed, rev/min.
+    #[schema(exclusive_minimum = 0.0, maximum = 100000.0)]
+    pub shaft_rpm: Option<f64>,
+}
 
 /// Resolve and validate the scene of a request body (the one validation a request gets).
 /// `extra` lists the other top-level members the endpoint accepts; any member not known
@@ -132,4 +194,37 @@ fn preset_value(
         merge_patch(&mut v, p);
     }
     Some(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn the_documented_presets_are_the_simulation_presets() {
+        for name in preset_names() {
+            assert!(
+                serde_json::from_value::<SimulationPreset>(json!(name)).is_ok(),
+                "add {name} to SimulationPreset"
+            );
+        }
+        // one variant: a preset removed from the engine must leave the document too
+        assert_eq!(preset_names(), &["h7005c"]);
+    }
+
+    #[test]
+    fn documented_request_shapes_resolve() {
+        let preset = json!({"preset": "h7005c", "fault_case": "compound", "overrides": {"solver": {"duration": 0.02}}});
+        assert!(serde_json::from_value::<SimulationRequest>(preset.clone()).is_ok());
+        let mut body = preset.as_object().unwrap().clone();
+        let scene = resolve_scene(&mut body, &[]).unwrap();
+        assert_eq!(scene.solver.duration, 0.02);
+        let inline = json!({"scene": scene.scene()});
+        assert!(serde_json::from_value::<SimulationRequest>(inline.clone()).is_ok());
+        assert!(resolve_scene(&mut inline.as_object().unwrap().clone(), &[]).is_ok());
+        let qs = json!({"preset": "h7005c", "shaft_rpm": 10000.0});
+        assert!(serde_json::from_value::<QuasiStaticRequest>(qs.clone()).is_ok());
+        assert!(resolve_scene(&mut qs.as_object().unwrap().clone(), &["shaft_rpm"]).is_ok());
+    }
 }

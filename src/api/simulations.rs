@@ -2,11 +2,19 @@
 
 use super::extract::{as_object, parse_value, require_json, QueryParams};
 use super::job_resource::{self, succeeded};
+use super::openapi::params::{
+    IdempotencyKey, IfNoneMatch, JobId, ListQuery, SignalsQuery, SpectraQuery, WaitQuery,
+};
+use super::openapi::responses::{
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+};
 use super::problem::{ApiResult, Problem};
-use super::results;
+use super::results::{self, SimulationResult, SpectrumView};
 use super::scene_input::resolve_scene;
+use super::scene_input::SimulationRequest;
 use super::state::AppState;
 use super::submission::enqueue;
+use super::views::{JobPage, JobView};
 use crate::jobs::artifacts::channel_artifact_name;
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, JobKind};
@@ -15,7 +23,8 @@ use axum::extract::{Path, RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use serde_json::json;
+use serde::Serialize;
+use utoipa::ToSchema;
 
 /// Default and largest number of points returned by `signals`.
 const DEFAULT_POINTS: usize = 10_000;
@@ -23,6 +32,67 @@ const MAX_POINTS: usize = 1_000_000;
 
 const KIND: JobKind = JobKind::Simulation;
 
+/// A window of one sampled channel, decimated: point `k` is at `start_time + k dt`.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct SignalView {
+    pub id: String,
+    pub channel: String,
+    /// SI unit of the samples, e.g. `m/s^2`.
+    pub unit: String,
+    /// Time of the first point, s.
+    pub start_time: f64,
+    /// Spacing of the points, s.
+    pub dt: f64,
+    /// Every k-th stored sample is returned.
+    pub decimation: usize,
+    /// Sample rate of the stored channel, Hz.
+    pub source_sample_rate: f64,
+    pub count: usize,
+    pub data: Vec<f64>,
+}
+
+/// Queue a simulation
+///
+/// Either `{"scene": {...}}` or `{"preset": "h7005c", "fault_case": "compound",
+/// "overrides": {...}}` where `overrides` is a JSON merge patch (RFC 7396) applied to the
+/// preset scene. With an `Idempotency-Key`, repeating the same request returns the original
+/// job (200); the same key with a different request is a 422.
+#[utoipa::path(
+    post,
+    path = "/v1/simulations",
+    tag = "simulations",
+    operation_id = "submitSimulation",
+    params(IdempotencyKey),
+    request_body(
+        content = SimulationRequest,
+        examples(("preset" = (
+            summary = "H7005C with both defects, 20 ms",
+            value = json!({"preset": "h7005c", "fault_case": "compound", "overrides": {"solver": {"duration": 0.02}}})
+        )))
+    ),
+    responses(
+        (status = 202, description = "Queued.", body = JobView, headers(
+            ("Location" = String, description = "Path of the job."),
+            ("ETag" = String, description = "Version of the job; send it back in If-None-Match.")
+        ), links(
+                ("getSimulation" = (operation_id = "getSimulation", parameters(("id" = "$response.body#/id")))),
+                ("cancelSimulation" = (operation_id = "cancelSimulation", parameters(("id" = "$response.body#/id")))),
+                ("getSimulationResult" = (operation_id = "getSimulationResult", parameters(("id" = "$response.body#/id")))),
+                ("getSimulationSpectra" = (operation_id = "getSimulationSpectra", parameters(("id" = "$response.body#/id")))),
+                ("getSimulationSignals" = (operation_id = "getSimulationSignals", parameters(("id" = "$response.body#/id")))),
+                ("deleteSimulation" = (operation_id = "deleteSimulation", parameters(("id" = "$response.body#/id"))))
+            )),
+        (status = 200, description = "Idempotent replay; the job created by the first request.", body = JobView, headers(
+            ("Location" = String, description = "Path of the job."),
+            ("ETag" = String, description = "Version of the job; send it back in If-None-Match.")
+        )),
+        (status = 400, response = BadRequest),
+        (status = 413, response = TooLarge),
+        (status = 415, response = UnsupportedMediaType),
+        (status = 422, response = Invalid),
+        (status = 429, response = QueueFull),
+    )
+)]
 pub async fn submit(
     State(state): State<AppState>,
     headers: HeaderMap,
@@ -35,6 +105,20 @@ pub async fn submit(
     enqueue(&state, &headers, KIND, scene.name.clone(), input, None).await
 }
 
+/// One sampled channel, windowed and decimated
+#[utoipa::path(
+    get,
+    path = "/v1/simulations/{id}/signals",
+    tag = "simulations",
+    operation_id = "getSimulationSignals",
+    params(JobId, SignalsQuery),
+    responses(
+        (status = 200, description = "The samples.", body = SignalView),
+        (status = 400, response = BadRequest),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn signals(
     State(state): State<AppState>,
     Path(id): Path<String>,
@@ -94,20 +178,43 @@ pub async fn signals(
     let len = last - first;
     let step = len.div_ceil(max_points).max(1);
     let values: Vec<f64> = data[first..last].iter().step_by(step).copied().collect();
-    Ok(Json(json!({
-        "id": id,
-        "channel": channel,
-        "unit": unit,
-        "start_time": t0 + first as f64 / fs,
-        "dt": step as f64 / fs,
-        "decimation": step,
-        "source_sample_rate": fs,
-        "count": values.len(),
-        "data": values,
-    }))
+    Ok(Json(SignalView {
+        id,
+        channel,
+        unit,
+        start_time: t0 + first as f64 / fs,
+        dt: step as f64 / fs,
+        decimation: step,
+        source_sample_rate: fs,
+        count: values.len(),
+        data: values,
+    })
     .into_response())
 }
 
+/// State, progress, timestamps, solver statistics and error of a simulation
+///
+/// Send the last `ETag` in `If-None-Match` to get a bodiless 304 while nothing changed.
+/// With `wait` (s), an unchanged job is held until it changes or `wait` passes (long poll;
+/// exempt from the request timeout; `If-None-Match: *` is answered at once).
+#[utoipa::path(
+    get,
+    path = "/v1/simulations/{id}",
+    tag = "simulations",
+    operation_id = "getSimulation",
+    params(JobId, IfNoneMatch, WaitQuery),
+    responses(
+        (status = 200, description = "The job.", body = JobView, headers(
+            ("ETag" = String, description = "Version of the job; send it back in If-None-Match."),
+            ("Location" = String, description = "Path of the job.")
+        )),
+        (status = 304, description = "Unchanged since the ETag given.", headers(
+            ("ETag" = String, description = "Version of the job.")
+        )),
+        (status = 400, response = BadRequest),
+        (status = 404, response = NotFound),
+    )
+)]
 pub async fn get(
     State(s): State<AppState>,
     Path(id): Path<String>,
@@ -117,22 +224,94 @@ pub async fn get(
     job_resource::get_job(s, KIND, id, headers, q).await
 }
 
+/// List simulations, newest first
+#[utoipa::path(
+    get,
+    path = "/v1/simulations",
+    tag = "simulations",
+    operation_id = "listSimulations",
+    params(ListQuery),
+    responses(
+        (status = 200, description = "One page.", body = JobPage),
+        (status = 400, response = BadRequest),
+    )
+)]
 pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
     job_resource::list(s, KIND, q).await
 }
 
+/// Cancel a queued (at once) or running (within a second) simulation
+#[utoipa::path(
+    post,
+    path = "/v1/simulations/{id}/cancel",
+    tag = "simulations",
+    operation_id = "cancelSimulation",
+    params(JobId),
+    responses(
+        (status = 202, description = "Cancelled (queued job) or cancel requested (running job).", body = JobView, headers(
+            ("ETag" = String, description = "Version of the job."),
+            ("Location" = String, description = "Path of the job.")
+        )),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     job_resource::cancel(s, KIND, id).await
 }
 
+/// Delete a finished simulation and its outputs
+#[utoipa::path(
+    delete,
+    path = "/v1/simulations/{id}",
+    tag = "simulations",
+    operation_id = "deleteSimulation",
+    params(JobId),
+    responses(
+        (status = 204, description = "Deleted."),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     job_resource::delete(s, KIND, id).await
 }
 
+/// Result summary of a succeeded simulation
+///
+/// Cage speed and slip, contact statistics, channels recorded, and the analysis of the
+/// outer-ring acceleration (theory, identifications, per-level kurtosis).
+#[utoipa::path(
+    get,
+    path = "/v1/simulations/{id}/result",
+    tag = "simulations",
+    operation_id = "getSimulationResult",
+    params(JobId),
+    responses(
+        (status = 200, description = "The summary.", body = SimulationResult),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+    )
+)]
 pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
     results::result(s, KIND, id).await
 }
 
+/// Envelope spectrum with characteristic-frequency markers and identified peaks
+#[utoipa::path(
+    get,
+    path = "/v1/simulations/{id}/spectra",
+    tag = "simulations",
+    operation_id = "getSimulationSpectra",
+    params(JobId, SpectraQuery),
+    responses(
+        (status = 200, description = "The spectrum.", body = SpectrumView),
+        (status = 400, response = BadRequest),
+        (status = 404, response = NotFound),
+        (status = 409, response = Conflict),
+        (status = 422, response = Invalid),
+    )
+)]
 pub async fn spectra(
     State(s): State<AppState>,
     Path(id): Path<String>,

@@ -18,4 +18,7 @@ pub struct AppState {
     pub ready: Arc<AtomicBool>,
     /// Bounds direct (non-queued) computations: quasi-static solves, small analyses.
     pub direct: Arc<Semaphore>,
+    /// The OpenAPI document served at `/openapi.yaml` (`api::openapi::yaml()`; handed in so
+    /// that the document, which lists that handler, and the handler do not import each other).
+    pub openapi_yaml: &'static str,
 }

@@ -1,7 +1,10 @@
-//! JSON views of jobs, their ETags and timestamps.
+//! What the API shows of jobs (typed views), their ETags and timestamps.
 
-use crate::store::{Job, JobKind};
-use serde_json::{json, Value};
+use crate::store::{Job, JobError, JobKind, JobState};
+use bearing_core::simulation::SolverStats;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use utoipa::ToSchema;
 
 /// Collection path of a job kind.
 pub fn collection(kind: JobKind) -> &'static str {
@@ -28,32 +31,109 @@ pub fn etag_matches(if_none_match: &str, etag: &str) -> bool {
         .any(|t| t == "*" || t.trim_start_matches("W/") == etag)
 }
 
-pub fn job_json(job: &Job) -> Value {
-    let base = job_location(job);
-    let mut links = json!({ "self": base, "cancel": format!("{base}/cancel") });
-    if job.state == crate::store::JobState::Succeeded {
-        links["result"] = json!(format!("{base}/result"));
-        links["spectra"] = json!(format!("{base}/spectra"));
-        if job.kind == JobKind::Simulation {
-            links["signals"] = json!(format!("{base}/signals"));
+/// A job as the API shows it.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+#[schema(example = json!({
+    "id": "019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71",
+    "kind": "simulation",
+    "state": "running",
+    "label": "H7005C (Table 1) compound inner+outer fault",
+    "progress": 0.42,
+    "attempt": 1,
+    "cancel_requested": false,
+    "created_at": "2026-01-01T12:00:00.000Z",
+    "started_at": "2026-01-01T12:00:00.050Z",
+    "finished_at": null,
+    "updated_at": "2026-01-01T12:00:00.400Z",
+    "stats": null,
+    "error": null,
+    "links": {
+        "self": "/v1/simulations/019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71",
+        "cancel": "/v1/simulations/019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71/cancel"
+    }
+}))]
+pub struct JobView {
+    /// Job id (a UUID).
+    pub id: String,
+    pub kind: JobKind,
+    pub state: JobState,
+    /// The scene's name, or a description of the analysed signal.
+    pub label: String,
+    /// Fraction of simulated time done, 0..=1.
+    #[schema(minimum = 0.0, maximum = 1.0)]
+    pub progress: f64,
+    /// Times a worker claimed the job (a lost worker's job is retried).
+    pub attempt: i64,
+    pub cancel_requested: bool,
+    /// RFC 3339, UTC.
+    #[schema(format = DateTime)]
+    pub created_at: String,
+    #[schema(format = DateTime)]
+    pub started_at: Option<String>,
+    #[schema(format = DateTime)]
+    pub finished_at: Option<String>,
+    #[schema(format = DateTime)]
+    pub updated_at: String,
+    /// Solver statistics once a simulation's run ended.
+    pub stats: Option<SolverStats>,
+    pub error: Option<JobError>,
+    /// `self`, `cancel`, and once succeeded `result`, `spectra` (and `signals`).
+    pub links: BTreeMap<String, String>,
+}
+
+impl JobView {
+    pub fn of(job: &Job) -> JobView {
+        let base = job_location(job);
+        let mut links = BTreeMap::new();
+        links.insert("self".to_string(), base.clone());
+        links.insert("cancel".to_string(), format!("{base}/cancel"));
+        if job.state == JobState::Succeeded {
+            links.insert("result".into(), format!("{base}/result"));
+            links.insert("spectra".into(), format!("{base}/spectra"));
+            if job.kind == JobKind::Simulation {
+                links.insert("signals".into(), format!("{base}/signals"));
+            }
+        }
+        JobView {
+            id: job.id.clone(),
+            kind: job.kind,
+            state: job.state,
+            label: job.label.clone(),
+            progress: job.progress,
+            attempt: job.attempt,
+            cancel_requested: job.cancel_requested,
+            created_at: rfc3339(job.created_at),
+            started_at: job.started_at.map(rfc3339),
+            finished_at: job.finished_at.map(rfc3339),
+            updated_at: rfc3339(job.updated_at),
+            // stored by the jobs layer from the engine's own type
+            stats: job
+                .stats
+                .clone()
+                .and_then(|v| serde_json::from_value(v).ok()),
+            error: job.error.clone(),
+            links,
         }
     }
-    json!({
-        "id": job.id,
-        "kind": job.kind,
-        "state": job.state,
-        "label": job.label,
-        "progress": job.progress,
-        "attempt": job.attempt,
-        "cancel_requested": job.cancel_requested,
-        "created_at": rfc3339(job.created_at),
-        "started_at": job.started_at.map(rfc3339),
-        "finished_at": job.finished_at.map(rfc3339),
-        "updated_at": rfc3339(job.updated_at),
-        "stats": job.stats,
-        "error": job.error,
-        "links": links,
-    })
+}
+
+/// One page of jobs, newest first.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct JobPage {
+    pub items: Vec<JobView>,
+    /// Cursor of the next (older) page; null on the last page.
+    pub next_cursor: Option<String>,
+    /// Link to the next page.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    #[schema(required = false)]
+    pub next: Option<String>,
+}
+
+/// A liveness or readiness answer.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct Status {
+    /// `ok` (health) or `ready` (readiness).
+    pub status: String,
 }
 
 /// Unix milliseconds as an RFC 3339 UTC timestamp with millisecond precision.

@@ -5,9 +5,10 @@
 use bearing_core::signal::analysis::{AnalysisOptions, AnalysisReport};
 use bearing_core::simulation::{BallSummary, SolverStats};
 use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
 
 /// An analysis as stored: the report and the options it ran with.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct AnalysisRecord {
     #[serde(flatten)]
     pub report: AnalysisReport,
@@ -19,7 +20,7 @@ pub struct AnalysisRecord {
 }
 
 /// The result of an analysis job.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct AnalysisJobRecord {
     pub analysis: AnalysisRecord,
     /// Samples received.
@@ -28,7 +29,7 @@ pub struct AnalysisJobRecord {
 
 /// The result of a simulation job: the run's summary, the channels recorded, and the
 /// analysis of the outer-ring acceleration (or why there is none).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct SimulationRecord {
     pub scene_name: String,
     pub solver: SolverStats,
@@ -50,16 +51,17 @@ pub struct SimulationRecord {
 }
 
 /// A mean speed with its unit.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct SpeedRecord {
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub mean: f64,
     /// `rad/s`.
     pub unit: String,
 }
 
 /// Cage speed over the steady window.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct CageRecord {
     /// rad/s.
     pub mean_speed: f64,
@@ -72,7 +74,7 @@ pub struct CageRecord {
 }
 
 /// Contact statistics over the balls (each averaged over the steady window).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct ContactRecord {
     pub inner_load: Option<MinMeanMax>,
     pub outer_load: Option<MinMeanMax>,
@@ -82,7 +84,7 @@ pub struct ContactRecord {
 }
 
 /// Units of [`ContactRecord`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct ContactUnits {
     /// `N`.
     pub load: String,
@@ -92,13 +94,16 @@ pub struct ContactUnits {
 
 /// Smallest, mean and largest value over the balls (NaN stored as null: a ball never
 /// loaded has no contact angle).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct MinMeanMax {
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub min: f64,
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub mean: f64,
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub max: f64,
 }
 
@@ -118,7 +123,7 @@ impl MinMeanMax {
 }
 
 /// A recorded channel, without its samples (they are an artifact).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct ChannelInfo {
     pub name: String,
     pub unit: String,

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 /// Integrator statistics.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct SolverStats {
     pub accepted_steps: u64,
     pub rejected_steps: u64,
@@ -18,18 +19,23 @@ pub struct SolverStats {
 
 /// Time-averaged state of one ball over the steady window.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct BallSummary {
     /// Mean inner-race contact load, N.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub inner_load: f64,
     /// Mean outer-race contact load, N.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub outer_load: f64,
     /// Mean inner contact angle, rad.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub inner_contact_angle: f64,
     /// Mean outer contact angle, rad.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub outer_contact_angle: f64,
 }
 

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 /// Equilibrium of one ball.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct QsBall {
     /// Azimuth of the ball centre, rad.
     pub azimuth: f64,
@@ -32,6 +33,7 @@ pub struct QsBall {
 
 /// Quasi-static solution of a scene at one shaft speed.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct QuasiStaticSolution {
     /// Shaft (inner-ring) speed, rad/s.
     pub shaft_speed: f64,

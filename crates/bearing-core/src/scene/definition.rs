@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 /// A complete simulation input.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
     /// Free-text label.
@@ -27,6 +28,7 @@ pub struct Scene {
 
 /// Bearing geometry (Table 1 plus what the dynamic model needs beyond it).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Bearing {
     /// Bore (inner ring inner) diameter, m.
@@ -58,6 +60,7 @@ pub struct Bearing {
 
 /// Cage geometry and guidance.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Cage {
     /// Cage bore diameter, m.
@@ -75,6 +78,7 @@ pub struct Cage {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum CageGuidance {
     OuterLand,
@@ -84,6 +88,7 @@ pub enum CageGuidance {
 
 /// Elastic and inertial properties of one part.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Material {
     /// Young's modulus, Pa.
@@ -95,6 +100,7 @@ pub struct Material {
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Materials {
     pub rings: Material,
@@ -104,6 +110,7 @@ pub struct Materials {
 
 /// Lubricant and friction data.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Lubricant {
     /// Dynamic viscosity at operating temperature, Pa s.
@@ -123,6 +130,7 @@ pub struct Lubricant {
 
 /// Traction coefficient as a function of slip speed s (m/s).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Traction {
     /// `mu(s) = (a + b s) exp(-c s) + d` (eq. 15); a, d in -, b in s/m, c in s/m.
@@ -139,6 +147,7 @@ pub enum Traction {
 
 /// Operating conditions.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Operating {
     pub speed: SpeedProfile,
@@ -162,6 +171,7 @@ pub struct Operating {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum TiltMode {
     #[default]
@@ -171,6 +181,7 @@ pub enum TiltMode {
 
 /// Inner-ring speed: linear ramp from `initial_rpm` to `steady_rpm` over `ramp_time`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct SpeedProfile {
     /// Speed at t = 0, rev/min.
@@ -184,6 +195,7 @@ pub struct SpeedProfile {
 
 /// 2-DOF spring-damper support of the outer ring (eq. 29).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Pedestal {
     /// Moving mass (outer ring plus participating housing), kg.
@@ -199,6 +211,7 @@ pub struct Pedestal {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Ring {
     Inner,
@@ -207,6 +220,7 @@ pub enum Ring {
 
 /// A localized raceway defect (a pit or spall).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields)]
 pub struct Fault {
     pub ring: Ring,
@@ -219,6 +233,7 @@ pub struct Fault {
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// Embedded 4th-order Runge-Kutta with step-size control (default).
@@ -230,6 +245,7 @@ pub enum Integrator {
 
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields, default)]
 pub struct Solver {
     /// Simulated time, s.
@@ -268,6 +284,7 @@ impl Default for Solver {
 
 /// Which channels to record besides the outer-ring acceleration (always recorded).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(deny_unknown_fields, default)]
 pub struct Outputs {
     /// Cage angular speed, rad/s.

@@ -14,6 +14,7 @@ pub fn preset_names() -> &'static [&'static str] {
 
 /// Fault cases of a preset: which of its defects are present.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum FaultCase {
     None,
@@ -39,6 +40,7 @@ impl std::str::FromStr for FaultCase {
 
 /// One row of the paper's Table 2 (three-factor orthogonal design of defect sizes).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct Table2Group {
     /// Serial number 1..=9.
     pub group: u32,

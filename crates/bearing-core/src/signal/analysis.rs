@@ -19,6 +19,7 @@ pub use super::spectrum::Spectrum;
 
 /// Analysis settings. Missing JSON fields take the defaults.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(default)]
 pub struct AnalysisOptions {
     /// DTCWT levels, >= 1 (default 5).
@@ -62,11 +63,13 @@ impl Default for AnalysisOptions {
 
 /// Identification results of one DTCWT level's component.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct ComponentReport {
     /// DTCWT level, 1-based (1 = finest, highest frequencies).
     pub level: usize,
     /// Pearson kurtosis of the component, -.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub kurtosis: f64,
     /// Nominal pass band of the level, Hz.
     pub band_hz: [f64; 2],
@@ -77,6 +80,7 @@ pub struct ComponentReport {
 
 /// Everything the analysis found.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct AnalysisReport {
     /// Hz.
     pub sample_rate: f64,
@@ -94,9 +98,11 @@ pub struct AnalysisReport {
     pub band: Option<[f64; 2]>,
     /// Pearson kurtosis of the windowed raw signal, -.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub raw_kurtosis: f64,
     /// Pearson kurtosis of each level's component, index 0 = level 1.
     #[serde(deserialize_with = "crate::json_float::vec_f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<Option<f64>>))]
     pub level_kurtosis: Vec<f64>,
     /// Identifications in the raw (optionally band-passed) envelope spectrum.
     pub raw: Vec<Identification>,

@@ -15,6 +15,7 @@ use serde::{Deserialize, Serialize};
 
 /// The geometry the kinematic frequencies need.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct KinematicGeometry {
     /// Number of balls Z, -.
     pub ball_count: usize,
@@ -108,6 +109,7 @@ pub fn kinematic_preset(name: &str) -> Option<KinematicGeometry> {
 
 /// Characteristic frequencies, all Hz.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct CharacteristicFrequencies {
     /// Shaft (inner ring) rotation frequency, Hz.
     pub shaft_hz: f64,

@@ -59,6 +59,7 @@ pub const MAX_PROMINENCE_DB: f64 = 300.0;
 
 /// One characteristic frequency (or harmonic) looked up in a spectrum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct Identification {
     /// `BPFO`, `BPFI`, `FTF`, `BSF` or `2xBSF`.
     pub name: String,
@@ -66,15 +67,19 @@ pub struct Identification {
     pub harmonic: u32,
     /// Expected frequency, `harmonic` times the characteristic frequency, Hz.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub theory_hz: f64,
     /// Interpolated frequency of the largest peak in the search band, Hz.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub identified_hz: f64,
     /// `(identified - theory) / theory * 100`, %.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub error_pct: f64,
     /// Peak amplitude over the local spectral median, dB.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub prominence_db: f64,
     /// Prominence above threshold, a true local maximum inside the band, and no other
     /// kinematic line nearer to the peak (see [`identify`]).
@@ -86,6 +91,7 @@ pub struct Identification {
 
 /// A shaft-rate sideband around a BPFI harmonic.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct Sideband {
     /// BPFI harmonic the sideband belongs to.
     pub harmonic: u32,
@@ -93,15 +99,19 @@ pub struct Sideband {
     pub order: i32,
     /// Target: identified BPFI harmonic (theory if it was not detected) + order x shaft, Hz.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub theory_hz: f64,
     /// Interpolated frequency of the largest peak in the sideband search band, Hz.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub identified_hz: f64,
     /// Peak amplitude, unit of the spectrum.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub amplitude: f64,
     /// Peak amplitude over the local spectral median, dB.
     #[serde(deserialize_with = "crate::json_float::f64_or_nan")]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub prominence_db: f64,
     pub detected: bool,
 }

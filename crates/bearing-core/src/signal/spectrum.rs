@@ -24,6 +24,7 @@ use super::hilbert::HilbertPlan;
 
 /// A single-sided amplitude spectrum.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct Spectrum {
     /// Bin spacing, Hz: bin `k` is at `k * df`.
     pub df: f64,

@@ -1,0 +1,104 @@
+//! The OpenAPI document, generated from the handlers' `#[utoipa::path]` annotations and the
+//! types they read and write. `openapi.yaml` in the repository is its committed output
+//! (`BEARING_SIM_UPDATE_OPENAPI=1 cargo test --test openapi` writes it); that test fails
+//! when the two differ.
+
+pub mod params;
+pub mod responses;
+
+use super::{analyses, ops, presets, quasi_static, simulations};
+use std::sync::OnceLock;
+use utoipa::OpenApi;
+
+/// Description of the whole API (the document's `info.description`).
+const DESCRIPTION: &str = "\
+Submit a scene (inline, or a preset with a fault case and a JSON merge patch of
+overrides); the job is queued durably and run by a bounded worker pool. Poll the job
+(cheaply, with `If-None-Match`), then read its result summary, sampled signals and
+envelope spectra. Measured signals can be analysed with `POST /v1/analyses`.
+
+Every error is `application/problem+json` (RFC 9457). Validation problems list every
+field with its path from the request body's root (`scene.bearing.ball_diameter`).
+Status codes: 400 malformed JSON or query parameter; 404 unknown id or route;
+405 wrong method; 408 request timeout; 409 invalid state transition (e.g. the result
+of an unfinished job); 413 body too large; 415 wrong Content-Type; 422 invalid
+content, or an `Idempotency-Key` reused with a different body; 429 queue full (with
+`Retry-After`).
+
+Units are SI (m, kg, s, N, Pa, rad) unless a field name says otherwise (`*_rpm`:
+rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
+";
+
+#[derive(OpenApi)]
+#[openapi(
+    info(
+        title = "bearing-sim service",
+        description = DESCRIPTION,
+        license(name = "MIT OR Apache-2.0")
+    ),
+    servers((url = "http://127.0.0.1:8080", description = "The default bind address")),
+    tags(
+        (name = "simulations", description = "Dynamic simulations of a bearing scene, queued as jobs."),
+        (name = "analyses", description = "Diagnosis of measured signals."),
+        (name = "models", description = "Presets and the quasi-static model, answered directly."),
+        (name = "operations", description = "Health, readiness, metrics and this document.")
+    ),
+    paths(
+        simulations::submit,
+        simulations::list,
+        simulations::get,
+        simulations::delete,
+        simulations::cancel,
+        simulations::result,
+        simulations::signals,
+        simulations::spectra,
+        analyses::submit,
+        analyses::list,
+        analyses::get,
+        analyses::delete,
+        analyses::cancel,
+        analyses::result,
+        analyses::spectra,
+        quasi_static::solve,
+        presets::list,
+        presets::get,
+        ops::healthz,
+        ops::readyz,
+        ops::metrics,
+        ops::openapi,
+    ),
+    components(
+        schemas(
+            super::problem::Problem,
+            params::AnalysisMode,
+            crate::store::JobState,
+            super::results::SpectrumKind,
+        ),
+        responses(
+        responses::BadRequest,
+        responses::NotFound,
+        responses::Conflict,
+        responses::TooLarge,
+        responses::UnsupportedMediaType,
+        responses::Invalid,
+        responses::QueueFull,
+        responses::Unavailable,
+        )
+    )
+)]
+struct ApiDoc;
+
+/// The document.
+pub fn document() -> utoipa::openapi::OpenApi {
+    ApiDoc::openapi()
+}
+
+/// The document as YAML (built once).
+pub fn yaml() -> &'static str {
+    static YAML: OnceLock<String> = OnceLock::new();
+    YAML.get_or_init(|| {
+        document()
+            .to_yaml()
+            .expect("the OpenAPI document serializes to YAML")
+    })
+}
