@@ -7,7 +7,7 @@ Only needed when a fixture changes; building, running and testing never need Pyt
     .venv/bin/python scripts/gen_signal_fixtures.py ../shared
 
 Writes
-  src/signal/dtcwt/filters.json         filter sets usable by the 1-D transform (float64)
+  crates/bearing-core/src/signal/dtcwt/filters.json         filter sets usable by the 1-D transform (float64)
   tests/fixtures/dtcwt/<case>/          golden DTCWT data, raw little-endian float64:
       input.f64, coeffs_level<k>.f64 (re, im interleaved), lowpass.f64,
       component_level<k>.f64, component_lowpass.f64, summary.json
@@ -42,7 +42,7 @@ def write_filters():
         ref = dtcwt.coeffs.qshift(name)
         for k, v in zip(("h0a", "h0b", "g0a", "g0b", "h1a", "h1b", "g1a", "g1b"), ref):
             assert np.array_equal(np.asarray(out[name][k]), np.asarray(v).ravel()), (name, k)
-    path = os.path.join(ROOT, "src/signal/dtcwt/filters.json")
+    path = os.path.join(ROOT, "crates/bearing-core/src/signal/dtcwt/filters.json")
     with open(path, "w") as f:
         json.dump(out, f, indent=1)
         f.write("\n")

@@ -1,6 +1,6 @@
 //! Analysis speed on 2^20 samples: DTCWT (5 levels) + per-level components + envelope spectra.
 //!
-//! `cargo bench --bench analysis` (or `/work/cargo-locked bench --bench analysis`). Prints the
+//! `cargo bench -p bearing-core --bench analysis`. Prints the
 //! median and min of several runs of each stage, on one thread (the library is single-threaded).
 //! The target: DTCWT 5 levels + envelope spectrum of 2^20 samples in under 1 s.
 
