@@ -10,7 +10,6 @@ COPY src ./src
 # comes along).
 COPY crates ./crates
 COPY migrations ./migrations
-COPY openapi.yaml ./
 # --locked: exactly the dependency versions of Cargo.lock, as CI builds them.
 RUN --mount=type=cache,target=/usr/local/cargo/registry \
     --mount=type=cache,target=/src/target \

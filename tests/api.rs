@@ -454,10 +454,12 @@ async fn analyses_run_directly_or_as_queued_jobs() {
             > 100
     );
 
-    // raw f32 body, queued on request
+    // raw f32 body, queued on request, searching 4 harmonics (the analysis default is 3)
     let raw: Vec<u8> = x.iter().flat_map(|v| (*v as f32).to_le_bytes()).collect();
     let r = c
-        .post(s.url("/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797"))
+        .post(s.url(
+            "/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797&harmonics=4",
+        ))
         .header("content-type", "application/octet-stream")
         .body(raw)
         .send()
@@ -506,6 +508,18 @@ async fn analyses_run_directly_or_as_queued_jobs() {
             .any(|m| m["name"] == "bpfo"),
         "{spec}"
     );
+    // the stored analysis keeps its options, and the markers follow them: 4 harmonics of
+    // BPFO (~107 Hz) lie below 500 Hz, and 4 of FTF (~12 Hz)
+    assert_eq!(result["analysis"]["options"]["harmonics"], 4, "{result}");
+    for line in ["bpfo", "ftf"] {
+        let n = spec["markers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|m| m["name"] == line)
+            .count();
+        assert_eq!(n, 4, "{line}: {spec}");
+    }
     // the analysis id is not a simulation id
     assert_eq!(
         get_json(

@@ -10,7 +10,8 @@ use super::openapi::params::{
     WaitQuery,
 };
 use super::openapi::responses::{
-    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, RequestTimeout, TooLarge, Unavailable,
+    UnsupportedMediaType,
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
 use super::results::{self, AnalysisResult, SpectrumView};
@@ -19,7 +20,7 @@ use super::submission::enqueue;
 use super::views::{JobPage, JobView};
 use crate::jobs::{run_analysis, AnalysisInput};
 use crate::store::blob::encode_f64le;
-use crate::store::{JobKind, JobState};
+use crate::store::JobKind;
 use axum::body::Bytes;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
@@ -65,10 +66,26 @@ pub struct AnalysisRequest {
 /// A small signal analysed directly.
 #[derive(Debug, Clone, Serialize, ToSchema)]
 pub struct DirectAnalysis {
-    /// Always `succeeded`.
-    pub state: JobState,
+    pub state: DirectState,
     pub analysis: AnalysisReport,
     pub spectra: DirectSpectra,
+}
+
+/// A direct analysis has run when it is answered.
+#[derive(Debug, Clone, Copy, Serialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum DirectState {
+    Succeeded,
+}
+
+/// What `200` answers to `POST /v1/analyses`: a direct analysis, or with a repeated
+/// `Idempotency-Key` the job the first request queued.
+#[derive(Serialize, ToSchema)]
+#[serde(untagged)]
+#[allow(dead_code, clippy::large_enum_variant)] // documents the two shapes of the answer
+pub enum AnalysisOk {
+    Direct(DirectAnalysis),
+    Replay(JobView),
 }
 
 /// The envelope spectra of a direct analysis.
@@ -96,7 +113,7 @@ pub struct DirectSpectra {
         (RawSamples = "application/octet-stream")
     )),
     responses(
-        (status = 200, description = "Small signal, analysed directly.", body = DirectAnalysis),
+        (status = 200, description = "Small signal, analysed directly; or an idempotent replay of a queued request (the job it created).", body = AnalysisOk),
         (status = 202, description = "Queued as an analysis job.", body = JobView, headers(
             ("Location" = String, description = "Path of the job."),
             ("ETag" = String, description = "Version of the job; send it back in If-None-Match.")
@@ -112,6 +129,8 @@ pub struct DirectSpectra {
         (status = 415, response = UnsupportedMediaType),
         (status = 422, response = Invalid),
         (status = 429, response = QueueFull),
+        (status = 408, response = RequestTimeout),
+        (status = 503, response = Unavailable),
     )
 )]
 pub async fn submit(
@@ -173,7 +192,7 @@ pub async fn submit(
         .and_then(|i| out.level_spectra.get(i))
         .cloned();
     Ok(Json(DirectAnalysis {
-        state: JobState::Succeeded,
+        state: DirectState::Succeeded,
         analysis: out.report,
         spectra: DirectSpectra {
             raw: out.raw_spectrum,

@@ -2,7 +2,9 @@
 
 use super::direct::run_direct;
 use super::extract::{as_object, from_value, parse_value, require_json};
-use super::openapi::responses::{BadRequest, Invalid, TooLarge, UnsupportedMediaType};
+use super::openapi::responses::{
+    BadRequest, Invalid, RequestTimeout, TooLarge, Unavailable, UnsupportedMediaType,
+};
 use super::problem::{ApiResult, Problem};
 use super::scene_input::{resolve_scene, QuasiStaticRequest};
 use super::state::AppState;
@@ -29,6 +31,8 @@ use bearing_core::quasi_static::QuasiStaticSolution;
         (status = 413, response = TooLarge),
         (status = 415, response = UnsupportedMediaType),
         (status = 422, response = Invalid),
+        (status = 408, response = RequestTimeout),
+        (status = 503, response = Unavailable),
     )
 )]
 pub async fn solve(

@@ -39,10 +39,11 @@ pub struct PresetReference {
     pub preset: SimulationPreset,
     /// Default `none`.
     #[serde(default)]
+    #[schema(nullable = false)]
     pub fault_case: Option<FaultCase>,
     /// JSON merge patch (RFC 7396) over the preset scene, e.g. `{"solver": {"duration": 0.02}}`.
     #[serde(default)]
-    #[schema(value_type = Option<Object>, example = json!({"solver": {"duration": 0.02}}))]
+    #[schema(value_type = Option<Object>, nullable = false, example = json!({"solver": {"duration": 0.02}}))]
     pub overrides: Option<Value>,
 }
 
@@ -59,13 +60,16 @@ pub enum SimulationPreset {
 #[serde(deny_unknown_fields)]
 #[allow(dead_code)]
 pub struct QuasiStaticRequest {
+    #[schema(nullable = false)]
     pub scene: Option<Scene>,
+    #[schema(nullable = false)]
     pub preset: Option<SimulationPreset>,
+    #[schema(nullable = false)]
     pub fault_case: Option<FaultCase>,
-    #[schema(value_type = Option<Object>)]
+    #[schema(value_type = Option<Object>, nullable = false)]
     pub overrides: Option<Value>,
     /// Shaft speed, rev/min.
-    #[schema(exclusive_minimum = 0.0, maximum = 100000.0)]
+    #[schema(exclusive_minimum = 0.0, maximum = 100000.0, nullable = false)]
     pub shaft_rpm: Option<f64>,
 }
 

@@ -35,6 +35,10 @@ impl JobFailure {
 /// A record as the JSON the store keeps (records are plain data: serializing cannot fail
 /// short of a bug, which fails the job rather than the process).
 pub fn to_stored<T: serde::Serialize>(record: &T) -> Result<serde_json::Value, JobFailure> {
-    serde_json::to_value(record)
-        .map_err(|e| JobFailure::new(FailureKind::Panic, format!("result not serializable: {e}")))
+    serde_json::to_value(record).map_err(|e| {
+        JobFailure::new(
+            FailureKind::Internal,
+            format!("result not serializable: {e}"),
+        )
+    })
 }

@@ -13,6 +13,9 @@ pub struct AnalysisRecord {
     #[serde(flatten)]
     pub report: AnalysisReport,
     /// The options the analysis ran with (harmonics searched, levels, filters, ...).
+    /// Records stored before this field existed read back with the defaults, which is
+    /// what every simulation job and option-less analysis ran with.
+    #[serde(default)]
     pub options: AnalysisOptions,
     /// The simulated channel analysed (simulations only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -60,14 +63,20 @@ pub struct SpeedRecord {
     pub unit: String,
 }
 
-/// Cage speed over the steady window.
+/// Cage speed over the steady window (null only for a degenerate run).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct CageRecord {
     /// rad/s.
+    #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub mean_speed: f64,
     /// Pure-rolling cage speed at the load-weighted contact angles, rad/s.
+    #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub epicyclic_speed: f64,
     /// 1 - mean / epicyclic, -.
+    #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
+    #[schema(nullable)]
     pub slip: f64,
     /// `rad/s`.
     pub unit: String,
@@ -128,4 +137,35 @@ pub struct ChannelInfo {
     pub name: String,
     pub unit: String,
     pub samples: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn an_analysis_stored_before_options_were_recorded_reads_back() {
+        // the shape written by the service before analysis records kept their options
+        let mut report = serde_json::to_value(AnalysisRecord {
+            report: sample_report(),
+            options: AnalysisOptions::default(),
+            channel: None,
+        })
+        .unwrap();
+        report.as_object_mut().unwrap().remove("options");
+        let old = json!({"analysis": report, "samples": 4096});
+        let r: AnalysisJobRecord = serde_json::from_value(old).unwrap();
+        assert_eq!(r.analysis.options, AnalysisOptions::default());
+    }
+
+    fn sample_report() -> AnalysisReport {
+        let g = bearing_core::signal::kinematic_preset("cwru6205").unwrap();
+        let x: Vec<f64> = (0..4096)
+            .map(|i| ((i * 37 % 101) as f64 - 50.0) / 50.0)
+            .collect();
+        bearing_core::signal::analyze(&x, 12_000.0, &g, 30.0, &AnalysisOptions::default())
+            .unwrap()
+            .report
+    }
 }

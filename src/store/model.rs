@@ -90,6 +90,8 @@ pub enum FailureKind {
     LeaseExpired,
     /// The signal analysis refused its input.
     Analysis,
+    /// A fault of the service itself (e.g. a result that does not serialize).
+    Internal,
 }
 
 impl FailureKind {
@@ -101,6 +103,7 @@ impl FailureKind {
             FailureKind::Cancelled => "cancelled",
             FailureKind::LeaseExpired => "lease_expired",
             FailureKind::Analysis => "analysis",
+            FailureKind::Internal => "internal",
         }
     }
 }

@@ -83,6 +83,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         responses::Invalid,
         responses::QueueFull,
         responses::Unavailable,
+        responses::RequestTimeout,
         )
     )
 )]

@@ -84,6 +84,11 @@ pub struct Invalid(Problem);
 )]
 pub struct QueueFull(Problem);
 
+/// The request took longer than the configured request timeout.
+#[derive(ToResponse)]
+#[response(content_type = "application/problem+json")]
+pub struct RequestTimeout(Problem);
+
 /// Not ready (shutting down, or the database is not reachable).
 #[derive(ToResponse)]
 #[response(content_type = "application/problem+json")]

@@ -22,7 +22,8 @@ pub use super::spectrum::Spectrum;
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(default)]
 pub struct AnalysisOptions {
-    /// DTCWT levels, >= 1 (default 5).
+    /// DTCWT levels, 1..=16 (default 5).
+    #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 16))]
     pub levels: usize,
     /// Analysis window `[t0, t1]`, s from the first sample; `None` = the whole signal.
     /// Use it to leave out a speed ramp or a bad stretch of a recording.
@@ -32,7 +33,8 @@ pub struct AnalysisOptions {
     pub band: Option<[f64; 2]>,
     /// Half-width of the peak search band, % of the target frequency (default 5).
     pub search_band_pct: f64,
-    /// Harmonics searched per characteristic frequency (default 3).
+    /// Harmonics searched per characteristic frequency, 1..=50 (default 3).
+    #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 50))]
     pub harmonics: usize,
     /// Level-1 filter set (default `near_sym_b`).
     pub biort: String,
