@@ -2,7 +2,7 @@
 
 use bearing_core::model::Model;
 use bearing_core::quasi_static::solve;
-use bearing_core::scene::preset_scene;
+use bearing_core::scene::{preset_scene, HertzModel};
 
 #[test]
 fn zero_speed_solution_balances_the_applied_loads() {
@@ -36,7 +36,15 @@ fn zero_speed_solution_balances_the_applied_loads() {
 
 #[test]
 fn pure_axial_load_matches_closed_form() {
+    // with the paper's Hamrock-Brewe constants and with the exact elliptic-integral ones
+    for hertz in [HertzModel::HamrockBrewe, HertzModel::Exact] {
+        pure_axial_load_matches_closed_form_with(hertz);
+    }
+}
+
+fn pure_axial_load_matches_closed_form_with(hertz: HertzModel) {
     let mut scene = preset_scene("h7005c").unwrap();
+    scene.solver.hertz = hertz;
     scene.operating.radial_load = 0.0;
     scene.operating.axial_load = 200.0;
     let m = Model::new(&scene.validated().unwrap());

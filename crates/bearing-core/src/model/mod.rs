@@ -6,10 +6,10 @@ pub mod layout;
 use crate::physics::cage_land::LandParams;
 use crate::physics::cage_pocket::PocketParams;
 use crate::physics::defect::RaceDefect;
-use crate::physics::hertz::{effective_modulus, hamrock_brewe};
+use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race};
 use crate::physics::traction::TractionCurve;
-use crate::scene::{CageGuidance, Ring, TiltMode, ValidScene};
+use crate::scene::{CageGuidance, HertzModel, Ring, TiltMode, ValidScene};
 use std::f64::consts::PI;
 
 use layout::Layout;
@@ -68,6 +68,10 @@ impl Model {
         let cos_free = 1.0 - pd / (2.0 * bsum);
         let alpha0 = cos_free.clamp(-1.0, 1.0).acos();
         let gamma = d * alpha0.cos() / dm;
+        let hertz: fn(f64, f64, f64) -> HertzContact = match scene.solver.hertz {
+            HertzModel::HamrockBrewe => hamrock_brewe,
+            HertzModel::Exact => exact,
+        };
         let ep_race = effective_modulus(
             m.balls.youngs_modulus,
             m.balls.poisson_ratio,
@@ -87,7 +91,7 @@ impl Model {
                 centre_radius: 0.5 * groove_diameter - sign * f * d,
                 centre_axial,
                 free_distance: (f - 0.5) * d,
-                hertz: hamrock_brewe(rx, f * d / (2.0 * f - 1.0), ep_race),
+                hertz: hertz(rx, f * d / (2.0 * f - 1.0), ep_race),
                 r_prime: 2.0 * f * d / (2.0 * f + 1.0),
                 ball_radius: rb,
                 path_radius: path,
@@ -142,7 +146,7 @@ impl Model {
         let pocket = PocketParams {
             clearance: 0.5 * (cg.pocket_diameter - d),
             pocket_radius: 0.5 * dm,
-            hertz: hamrock_brewe(rb, r_across, ep_cage),
+            hertz: hertz(rb, r_across, ep_cage),
             critical_film: scene.lubricant.critical_film_ball_cage,
             viscosity: scene.lubricant.dynamic_viscosity,
             ball_radius: rb,
