@@ -7,7 +7,7 @@ use crate::physics::cage_land::LandParams;
 use crate::physics::cage_pocket::PocketParams;
 use crate::physics::defect::RaceDefect;
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
-use crate::physics::race_contact::{ContactParams, Race};
+use crate::physics::race_contact::{ContactParams, Race, Strips};
 use crate::physics::traction::TractionCurve;
 use crate::scene::{CageGuidance, HertzModel, Ring, TiltMode, ValidScene};
 use std::f64::consts::PI;
@@ -130,7 +130,7 @@ impl Model {
                 c: tc,
                 d: td,
             },
-            strips: scene.solver.traction_strips,
+            strips: Strips::new(scene.solver.traction_strips),
             damping_ratio: scene.lubricant.contact_damping_ratio,
             ball_mass,
         };
