@@ -364,6 +364,8 @@ async fn presets_and_operational_endpoints() {
     let spec = get_text(&c, &s.url("/openapi.yaml")).await;
     assert!(spec.starts_with("openapi: 3.1"));
     assert_eq!(spec, bearing_sim::api::openapi::yaml(), "served document");
+    // the in-process app keeps its own log, for failure messages
+    assert!(s.log().contains("serving"), "log: {}", s.log());
 
     // CORS: the configured origin may read Location, ETag and Retry-After
     let r = c

@@ -5,8 +5,7 @@
 use bearing_sim::config::Config;
 use clap::Parser;
 use std::path::Path;
-use std::sync::mpsc;
-use std::sync::Once;
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// `bearing-sim serve` flags, parsed as the binary parses them.
@@ -21,22 +20,38 @@ pub struct TestApp {
     stop: Option<tokio::sync::oneshot::Sender<()>>,
     stopped: mpsc::Receiver<String>,
     runtime: Option<tokio::runtime::Runtime>,
+    log: Arc<Mutex<Vec<u8>>>,
 }
 
-static LOGGING: Once = Once::new();
+/// Appends to an app's own log buffer.
+struct LogWriter(Arc<Mutex<Vec<u8>>>);
+
+impl std::io::Write for LogWriter {
+    fn write(&mut self, b: &[u8]) -> std::io::Result<usize> {
+        self.0.lock().unwrap().extend_from_slice(b);
+        Ok(b.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
 
 impl TestApp {
     /// Serve on `db` (a file path) with extra `serve` flags; returns once `/healthz` answers.
     pub fn spawn(db: &Path, args: &[&str]) -> TestApp {
-        // Logs go to stderr only on request: `BEARING_SIM_TEST_LOG=debug cargo test ...`.
-        if let Ok(filter) = std::env::var("BEARING_SIM_TEST_LOG") {
-            LOGGING.call_once(|| {
-                let _ = tracing_subscriber::fmt()
-                    .with_env_filter(tracing_subscriber::EnvFilter::new(filter))
-                    .with_test_writer()
-                    .try_init();
-            });
-        }
+        // Each app logs into its own buffer (shown by `log()` in failure messages): every
+        // thread of its runtime, blocking ones included, gets the app's subscriber.
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let filter =
+            std::env::var("BEARING_SIM_TEST_LOG").unwrap_or_else(|_| "info,sqlx=warn".into());
+        let sink = log.clone();
+        let dispatch = tracing::Dispatch::new(
+            tracing_subscriber::fmt()
+                .with_env_filter(tracing_subscriber::EnvFilter::new(filter))
+                .with_ansi(false)
+                .with_writer(move || LogWriter(sink.clone()))
+                .finish(),
+        );
         let url = format!("sqlite://{}", db.display());
         let mut argv = vec!["serve", "--bind", "127.0.0.1:0", "--database-url", &url];
         argv.extend_from_slice(args);
@@ -45,6 +60,10 @@ impl TestApp {
             .config;
         let workers = config.worker_count();
         let runtime = tokio::runtime::Builder::new_multi_thread()
+            .on_thread_start(move || {
+                // the thread's default for its whole life
+                std::mem::forget(tracing::dispatcher::set_default(&dispatch));
+            })
             .worker_threads(2)
             .max_blocking_threads(2 * workers.max(1) + 4)
             .enable_all()
@@ -71,6 +90,7 @@ impl TestApp {
             stop: Some(stop_tx),
             stopped: done_rx,
             runtime: Some(runtime),
+            log,
         };
         app.wait_healthy();
         app
@@ -98,8 +118,9 @@ impl TestApp {
         format!("{}{}", self.base, path)
     }
 
+    /// What the app logged so far (level from `BEARING_SIM_TEST_LOG`, default info).
     pub fn log(&self) -> String {
-        "(in-process app: set BEARING_SIM_TEST_LOG=info to see its log)".into()
+        String::from_utf8_lossy(&self.log.lock().unwrap()).into_owned()
     }
 }
 
