@@ -37,6 +37,22 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
         result["contact"]["outer_contact_angle"]["max"].is_number(),
         "{result}"
     );
+    // honest kinematics: the slip's definition beside it, and the frequencies three ways
+    assert!(result["cage"]["slip_definition"]
+        .as_str()
+        .unwrap()
+        .contains("loaded balls"));
+    let f = &result["frequencies"];
+    for way in ["nominal", "loaded", "simulated"] {
+        let (o, i) = (
+            f[way]["bpfo"].as_f64().unwrap(),
+            f[way]["bpfi"].as_f64().unwrap(),
+        );
+        // BPFO + BPFI = Z f_shaft for any cage speed (16 balls)
+        let z_fr = 16.0 * f["shaft_hz"].as_f64().unwrap();
+        assert!((o + i - z_fr).abs() < 1e-9 * z_fr, "{way}: {f}");
+    }
+    assert!(f["bpfo_error_pct"].as_f64().unwrap().abs() < 5.0, "{f}");
     let analysis = &result["analysis"];
     assert!(
         analysis.is_object(),

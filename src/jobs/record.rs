@@ -4,6 +4,7 @@
 
 use bearing_core::signal::analysis::{AnalysisOptions, AnalysisReport};
 use bearing_core::simulation::{BallSummary, SolverStats};
+use bearing_core::simulation_analysis::FrequencyComparison;
 use serde::{Deserialize, Serialize};
 use utoipa::ToSchema;
 
@@ -40,6 +41,10 @@ pub struct SimulationRecord {
     pub steady_window: [f64; 2],
     pub shaft_speed: SpeedRecord,
     pub cage: CageRecord,
+    /// BPFO, BPFI and FTF from eq. 37 at the nominal angle, from the loaded balls' pure
+    /// rolling, and from the run's cage speed (absent in records stored before it existed).
+    #[serde(default)]
+    pub frequencies: Option<FrequencyComparison>,
     /// Mean force the balls exert on the inner ring (X, Y, Z), N.
     pub mean_inner_ring_reaction: [f64; 3],
     pub contact: ContactRecord,
@@ -74,10 +79,14 @@ pub struct CageRecord {
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
     #[schema(nullable)]
     pub epicyclic_speed: f64,
-    /// 1 - mean / epicyclic, -.
+    /// 1 - mean / epicyclic, -: negative when the cage runs faster than the loaded balls
+    /// would roll it.
     #[serde(deserialize_with = "bearing_core::json_float::f64_or_nan")]
     #[schema(nullable)]
     pub slip: f64,
+    /// What `epicyclic_speed` and `slip` mean (absent in records stored before it existed).
+    #[serde(default)]
+    pub slip_definition: Option<String>,
     /// `rad/s`.
     pub unit: String,
 }

@@ -12,7 +12,10 @@ use crate::store::{Artifact, FailureKind};
 use bearing_core::scene::ValidScene;
 use bearing_core::signal::analysis::{AnalysisOptions, AnalysisOutput};
 use bearing_core::simulation::{simulate, BallSummary, RunControl, SimError, SimResult};
-use bearing_core::simulation_analysis::analyze_simulation;
+use bearing_core::simulation_analysis::{analyze_simulation, frequency_comparison};
+
+/// Written beside the slip in every record, so the number is never read without it.
+const SLIP_DEFINITION: &str = "slip = 1 - mean cage speed / epicyclic speed, where the epicyclic speed is the pure rolling (outer-race control) of the loaded balls: the load zone's contact angles weighted by their contact loads";
 
 /// Channels tried for the diagnosis, in order.
 const ANALYSIS_CHANNELS: &[&str] = &["outer_ring_accel_z", "outer_ring_accel_y"];
@@ -87,8 +90,10 @@ pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, V
             mean_speed: s.mean_cage_speed,
             epicyclic_speed: s.epicyclic_cage_speed,
             slip: s.cage_slip,
+            slip_definition: Some(SLIP_DEFINITION.into()),
             unit: "rad/s".into(),
         },
+        frequencies: Some(frequency_comparison(result, scene)),
         mean_inner_ring_reaction: s.mean_inner_ring_reaction,
         contact: ContactRecord {
             inner_load: stat(|b| b.inner_load),

@@ -3,9 +3,11 @@
 
 use crate::scene::Scene;
 use crate::signal::analysis::{analyze, AnalysisError, AnalysisOptions, AnalysisOutput};
-use crate::signal::frequencies::KinematicGeometry;
+use crate::signal::frequencies::{characteristic_frequencies, KinematicGeometry};
 use crate::signal::spectrum::band_rms;
 use crate::simulation::SimResult;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
 
 /// Analyse `channel` of a simulation result: sample rate from the result, geometry from
 /// the scene's bearing, shaft speed from the run's mean shaft speed (the steady rpm if
@@ -47,6 +49,79 @@ pub fn analyze_simulation(
     )
 }
 
+/// Cage and ball-pass frequencies, Hz.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct PassFrequencies {
+    /// Fundamental train (cage) frequency, Hz.
+    pub ftf: f64,
+    /// Ball pass frequency, outer race: `Z ftf`, Hz.
+    pub bpfo: f64,
+    /// Ball pass frequency, inner race: `Z (f_shaft - ftf)`, Hz.
+    pub bpfi: f64,
+}
+
+impl PassFrequencies {
+    fn of_cage(cage_hz: f64, shaft_hz: f64, z: usize) -> Self {
+        PassFrequencies {
+            ftf: cage_hz,
+            bpfo: z as f64 * cage_hz,
+            bpfi: z as f64 * (shaft_hz - cage_hz),
+        }
+    }
+}
+
+/// A run's characteristic frequencies three ways: eq. 37 at the nominal contact angle (what
+/// the paper's Figures 23-28 compare against), the pure rolling of the loaded balls, and the
+/// cage speed the run produced.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct FrequencyComparison {
+    /// Mean shaft frequency over the steady window, Hz.
+    pub shaft_hz: f64,
+    /// The bearing's nominal contact angle, rad.
+    pub nominal_contact_angle: f64,
+    /// Inner and outer contact angles of the load zone, load-weighted, rad.
+    pub loaded_contact_angles: [f64; 2],
+    /// Eq. 37 at the nominal angle, with `d_m = (bore + OD) / 2` as the paper takes it.
+    pub nominal: PassFrequencies,
+    /// Pure rolling of the loaded balls (outer-race control at the loaded angles, the pitch
+    /// diameter of the groove centres): the summary's epicyclic cage speed.
+    pub loaded: PassFrequencies,
+    /// From the mean cage speed of the run.
+    pub simulated: PassFrequencies,
+    /// `(simulated - nominal) / nominal * 100` for BPFO, %.
+    pub bpfo_error_pct: f64,
+    /// `(simulated - nominal) / nominal * 100` for BPFI, %.
+    pub bpfi_error_pct: f64,
+}
+
+/// Compare the run's cage speed with the nominal and the loaded-ball kinematics.
+pub fn frequency_comparison(result: &SimResult, scene: &Scene) -> FrequencyComparison {
+    let s = &result.summary;
+    let z = scene.bearing.ball_count;
+    let shaft_hz = s.mean_shaft_speed / TAU;
+    let theory =
+        characteristic_frequencies(&KinematicGeometry::from_bearing(&scene.bearing), shaft_hz);
+    let nominal = PassFrequencies {
+        ftf: theory.ftf,
+        bpfo: theory.bpfo,
+        bpfi: theory.bpfi,
+    };
+    let simulated = PassFrequencies::of_cage(s.mean_cage_speed / TAU, shaft_hz, z);
+    let pct = |x: f64, x0: f64| 100.0 * (x - x0) / x0;
+    FrequencyComparison {
+        shaft_hz,
+        nominal_contact_angle: scene.bearing.contact_angle,
+        loaded_contact_angles: s.loaded_contact_angles,
+        nominal,
+        loaded: PassFrequencies::of_cage(s.epicyclic_cage_speed / TAU, shaft_hz, z),
+        simulated,
+        bpfo_error_pct: pct(simulated.bpfo, nominal.bpfo),
+        bpfi_error_pct: pct(simulated.bpfi, nominal.bpfi),
+    }
+}
+
 /// RMS of `channel` below `fmax` (Hz) over the summary's steady window, in the channel's
 /// unit; `None` for a channel the run did not record.
 pub fn steady_band_rms(result: &SimResult, channel: &str, fmax: f64) -> Option<f64> {
@@ -59,6 +134,37 @@ mod tests {
     use super::*;
     use crate::dynamics::window::steady_window;
     use crate::simulation::{Channel, Channels, Summary};
+
+    #[test]
+    fn frequencies_compare_the_cage_with_both_kinematics() {
+        let scene = crate::scene::preset_scene("h7005c").unwrap();
+        let w = 10_000.0 * TAU / 60.0;
+        let result = SimResult {
+            summary: Summary {
+                mean_shaft_speed: w,
+                // the paper's BPFO 1134.6 Hz at 10000 rpm is 16 x 70.91 Hz of cage
+                mean_cage_speed: 1.001 * 1134.6 / 16.0 * TAU,
+                epicyclic_cage_speed: 0.999 * 1134.6 / 16.0 * TAU,
+                loaded_contact_angles: [0.27, 0.23],
+                ..Summary::default()
+            },
+            channels: Channels::default(),
+        };
+        let c = frequency_comparison(&result, &scene);
+        assert!((c.nominal.bpfo - 1134.6).abs() < 0.05, "{}", c.nominal.bpfo);
+        assert!((c.nominal.bpfi - 1532.1).abs() < 0.05, "{}", c.nominal.bpfi);
+        // BPFO + BPFI = Z f_shaft whatever the cage does
+        for f in [c.nominal, c.loaded, c.simulated] {
+            assert!((f.bpfo + f.bpfi - 16.0 * 10_000.0 / 60.0).abs() < 1e-9);
+        }
+        assert!(
+            (c.bpfo_error_pct - 0.1).abs() < 0.01,
+            "{}",
+            c.bpfo_error_pct
+        );
+        assert!(c.bpfi_error_pct < 0.0 && c.loaded.bpfo < c.nominal.bpfo);
+        assert_eq!(c.loaded_contact_angles, [0.27, 0.23]);
+    }
 
     #[test]
     fn simulation_results_are_analysed_over_the_steady_window() {

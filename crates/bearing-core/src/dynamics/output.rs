@@ -49,10 +49,15 @@ pub struct Summary {
     pub mean_shaft_speed: f64,
     /// Mean cage angular speed, rad/s.
     pub mean_cage_speed: f64,
-    /// Pure-rolling (epicyclic) cage speed at the mean shaft speed, rad/s.
+    /// Pure-rolling (epicyclic) cage speed of the loaded balls at the mean shaft speed:
+    /// rolling kinematics with outer-race control at `loaded_contact_angles`, rad/s.
     pub epicyclic_cage_speed: f64,
-    /// Cage slip, 1 - mean / epicyclic, -.
+    /// Cage slip against the loaded balls' pure rolling, `1 - mean / epicyclic`, -
+    /// (negative when the cage runs faster than the loaded balls would roll it).
     pub cage_slip: f64,
+    /// Inner and outer contact angles of the load zone, each azimuth weighted by its mean
+    /// contact load on that race, rad.
+    pub loaded_contact_angles: [f64; 2],
     /// Mean force the balls exert on the inner ring (X, Y, Z), N; balances the applied load.
     pub mean_inner_ring_reaction: [f64; 3],
     /// Per ball, averaged over the window (each ball orbits through the whole bearing).
