@@ -7,7 +7,7 @@ pub enum QsError {
     #[error("shaft speed {rpm} rev/min must be finite and >= 0")]
     InvalidSpeed { rpm: f64 },
     /// Newton-Levenberg did not bring the ring force residual below tolerance.
-    #[error("quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations of the direct solve{}", moment_hint(*moment_reached, applied_moment))]
+    #[error("quasi-static equilibrium did not converge: largest ring force residual {residual:.3e} N after {iterations} iterations of the direct solve{}{}", moment_hint(*moment_reached, applied_moment), load_hint(*axial_load, *radial_load, *axial_load_needed))]
     NoEquilibrium {
         /// Largest ring force residual left, N.
         residual: f64,
@@ -17,7 +17,26 @@ pub enum QsError {
         moment_reached: Option<f64>,
         /// Applied moment about Y and Z, N m.
         applied_moment: [f64; 2],
+        /// Applied axial load, N.
+        axial_load: f64,
+        /// Applied radial load, N.
+        radial_load: f64,
+        /// With the ring's tilt locked and the axial load near or below it: the axial load the
+        /// radial load needs, about `Fr tan(alpha0)` with the free contact angle, N.
+        axial_load_needed: Option<f64>,
     },
+}
+
+/// A radial load is carried only through contact angles: a ring that may not tilt needs at
+/// least about `Fr tan(alpha)` of axial load, since even one ball carrying everything pushes
+/// back `tan(alpha)` times axially what it takes radially.
+fn load_hint(axial: f64, radial: f64, needed: Option<f64>) -> String {
+    match needed {
+        Some(n) => format!(
+            "; with the inner ring's tilt locked the radial load {radial} N needs an axial load of about Fr tan(alpha0) = {n:.1} N or more to keep the balls in angular contact, and {axial} N is applied: raise operating.axial_load (or lower operating.radial_load)"
+        ),
+        None => String::new(),
+    }
 }
 
 fn moment_hint(reached: Option<f64>, moment: &[f64; 2]) -> String {

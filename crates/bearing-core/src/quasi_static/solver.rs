@@ -335,11 +335,20 @@ fn continuation(m: &Model, w: f64, guess: [f64; 5]) -> Result<RingSolution, Opti
 }
 
 fn no_equilibrium(m: &Model, (residual, iterations): (f64, u32), reached: Option<f64>) -> QsError {
+    let [fx, fy, fz] = m.applied_force;
+    let (axial_load, radial_load) = (fx.abs(), fy.hypot(fz));
+    let needed = radial_load * m.free_contact_angle.tan();
     QsError::NoEquilibrium {
         residual,
         iterations,
         moment_reached: reached,
         applied_moment: m.applied_moment,
+        axial_load,
+        radial_load,
+        // The hint applies near and below the limit (the exact limit moves with speed and
+        // the loaded contact angles: at 1000 rpm, 300 N radial it lies between 80 and 90 N).
+        axial_load_needed: (!m.tilt_free && radial_load > 0.0 && axial_load < 1.25 * needed)
+            .then_some(needed),
     }
 }
 
