@@ -184,13 +184,13 @@ pub async fn submit(
             e.to_string(),
         )
     })?;
+    // the best level's spectrum, moved out rather than copied
     let best = out
         .report
         .best_component
         .level
         .checked_sub(1)
-        .and_then(|i| out.level_spectra.get(i))
-        .cloned();
+        .and_then(|i| out.level_spectra.into_iter().nth(i));
     Ok(Json(DirectAnalysis {
         state: DirectState::Succeeded,
         analysis: out.report,
