@@ -7,6 +7,7 @@ use crate::model::layout::Layout;
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion};
+use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{e_r, e_t, from_azimuth, tilt_matrix, to_azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
 use nalgebra::{Matrix3, Vector3};
@@ -120,8 +121,12 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
             &ball.velocity,
             &ball.omega,
         );
-        let f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
-        let mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
+        let mut f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
+        let mut mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
+        if let Some(drag) = &m.ball_drag {
+            f += drag.force(&ball.velocity);
+            mo += drag.moment(&ball.omega);
+        }
         f_inner += ci.force_on_ring;
         m_inner += ci.moment_on_ring;
         f_outer += co.force_on_ring;
@@ -188,6 +193,12 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
             f_inner -= lr.force_on_cage;
             m_inner += lr.moment_on_ring;
         }
+    }
+
+    // Windage of the cavity medium on the cage faces.
+    if let Some(medium) = &m.cage_windage {
+        let [ro, ri] = m.cage_radii;
+        cage_torque_x += cage_windage_torque(medium, ro, ri, y[l.cage + 9]);
     }
 
     // Inner ring: translations under the applied load (rotation prescribed).

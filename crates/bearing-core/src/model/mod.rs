@@ -6,10 +6,14 @@ pub mod layout;
 use crate::physics::cage_land::LandParams;
 use crate::physics::cage_pocket::PocketParams;
 use crate::physics::defect::RaceDefect;
+use crate::physics::drag::{BallDrag, CavityMedium};
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race, Strips};
+use crate::physics::rolling_resistance::RollingResistance;
 use crate::physics::traction::TractionCurve;
-use crate::scene::{CageGuidance, HertzModel, Ring, TiltMode, ValidScene};
+use crate::scene::{
+    CageGuidance, CavityDrag, HertzModel, Ring, RollingResistanceModel, TiltMode, ValidScene,
+};
 use std::f64::consts::PI;
 
 use layout::Layout;
@@ -53,6 +57,12 @@ pub struct Model {
     pub speed: (f64, f64, f64),
     /// Positions of the pockets in the cage frame, rad.
     pub pocket_angles: Vec<f64>,
+    /// Drag of the cavity medium on each ball; None without cavity drag.
+    pub ball_drag: Option<BallDrag>,
+    /// The cavity medium acting on the cage faces; None without cavity drag.
+    pub cage_windage: Option<CavityMedium>,
+    /// Cage outer and inner radius, m (for the face windage).
+    pub cage_radii: [f64; 2],
 }
 
 impl Model {
@@ -82,16 +92,28 @@ impl Model {
         // centre circle), +1 for the outer race (concave). Curvature centres: outer at
         // x = 0, inner offset axially so that an unloaded ball touches both at the free
         // contact angle (eqs. 4-7).
+        let lub = &scene.lubricant;
         let race = |ring: Ring, groove_diameter: f64, f: f64, centre_axial: f64| {
             let sign = if ring == Ring::Inner { -1.0 } else { 1.0 };
             let rx = 0.5 * d * (1.0 + sign * gamma);
+            let ry = f * d / (2.0 * f - 1.0);
             let path = 0.5 * dm + sign * rb * alpha0.cos();
             Race {
                 inner: ring == Ring::Inner,
                 centre_radius: 0.5 * groove_diameter - sign * f * d,
                 centre_axial,
                 free_distance: (f - 0.5) * d,
-                hertz: hertz(rx, f * d / (2.0 * f - 1.0), ep_race),
+                hertz: hertz(rx, ry, ep_race),
+                rolling: match lub.rolling_resistance {
+                    RollingResistanceModel::None => None,
+                    RollingResistanceModel::Houpert { factor } => Some(RollingResistance::new(
+                        ep_race,
+                        rx,
+                        ry,
+                        lub.dynamic_viscosity,
+                        factor,
+                    )),
+                },
                 r_prime: 2.0 * f * d / (2.0 * f + 1.0),
                 ball_radius: rb,
                 path_radius: path,
@@ -206,6 +228,14 @@ impl Model {
         } else {
             (rpm(op.speed.steady_rpm), rpm(op.speed.steady_rpm), 0.0)
         };
+        let medium = match lub.cavity_drag {
+            CavityDrag::None => None,
+            CavityDrag::OilAir { oil_fraction } => Some(CavityMedium::mixture(
+                oil_fraction,
+                lub.density,
+                lub.dynamic_viscosity,
+            )),
+        };
         Model {
             layout: Layout::new(z),
             z,
@@ -232,6 +262,9 @@ impl Model {
             cage_inertia,
             speed,
             pocket_angles: (0..z).map(|j| 2.0 * PI * j as f64 / z as f64).collect(),
+            ball_drag: medium.map(|medium| BallDrag { medium, radius: rb }),
+            cage_windage: medium,
+            cage_radii: [ro, ri],
         }
     }
 

@@ -5,10 +5,12 @@
 pub mod cage_land;
 pub mod cage_pocket;
 pub mod defect;
+pub mod drag;
 pub mod frames;
 pub mod hertz;
 pub mod kinematics;
 pub mod race_contact;
+pub mod rolling_resistance;
 pub mod traction;
 
 pub use nalgebra::{Matrix3, Vector3};

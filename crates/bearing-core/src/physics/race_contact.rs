@@ -3,6 +3,7 @@
 
 use super::defect::{race_defects_effect, RaceDefect};
 use super::hertz::HertzContact;
+use super::rolling_resistance::RollingResistance;
 use super::traction::TractionCurve;
 use nalgebra::{Matrix3, Vector3};
 
@@ -29,6 +30,8 @@ pub struct Race {
     pub rx: f64,
     /// Defects on this race, in its body frame.
     pub defects: Vec<RaceDefect>,
+    /// EHL rolling resistance of this ball-race pair; None to leave it out.
+    pub rolling: Option<RollingResistance>,
 }
 
 /// Motion of a ring.
@@ -222,12 +225,58 @@ pub fn race_contact(
     let (f_tr, m_ball, m_ring_strips) = strip_traction(race, ring, ball, p, q, &u, &t);
     // eq. 18
     let f_ball = normal_force_on_ball + f_tr;
+    let r_contact = ball.centre - ring.centre + race.ball_radius * u;
     out.force_on_ball = f_ball;
     out.moment_on_ball = m_ball;
     out.force_on_ring = -f_ball;
-    let r_contact = ball.centre - ring.centre + race.ball_radius * u;
     out.moment_on_ring = m_ring_strips + r_contact.cross(&(-normal_force_on_ball));
+    if let Some(rr) = &race.rolling {
+        rolling_resistance(
+            rr,
+            ring,
+            ball,
+            q,
+            &u,
+            race.ball_radius,
+            &r_contact,
+            &mut out,
+        );
+    }
     out
+}
+
+/// Add the EHL rolling resistance of a contact carrying `q` (N) to its forces.
+///
+/// Bălan et al. (2015): the film's shear brakes each surface with `F_R` at the contact,
+/// against its motion relative to the contact, and the film pressure pushes the ball's
+/// centre with `2 F_R` the other way. On the ball that is a net force `F_R` along the
+/// entrainment velocity (backwards for a rolling ball) and the moment of the shear about
+/// its centre; the ring takes the opposite net force at the contact, so momentum is kept.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn rolling_resistance(
+    rr: &RollingResistance,
+    ring: &RingMotion,
+    ball: &BallMotion,
+    q: f64,
+    u: &Vector3<f64>,
+    ball_radius: f64,
+    r_contact: &Vector3<f64>,
+    out: &mut ContactResult,
+) {
+    // surface velocities at the contact point relative to the ball centre, which the
+    // contact moves with
+    let r_b = ball_radius * u;
+    let ring_axis = ring.rot * Vector3::x();
+    let v_ball = ball.omega.cross(&r_b);
+    let v_ring = ring.velocity + ring.spin * ring_axis.cross(r_contact) - ball.velocity;
+    let mut um = 0.5 * (v_ball + v_ring);
+    um -= um.dot(u) * u;
+    let f = rr.force_along(q, &um);
+    out.force_on_ball += f;
+    out.moment_on_ball -= r_b.cross(&f);
+    out.force_on_ring -= f;
+    out.moment_on_ring -= r_contact.cross(&f);
 }
 
 /// EHL traction of one contact carrying `q` (N) with unit normal `u` and rolling direction
@@ -351,6 +400,7 @@ mod tests {
             path_radius: 0.5 * 41.562e-3,
             rx: 0.5 * D,
             defects: vec![],
+            rolling: None,
         }
     }
 

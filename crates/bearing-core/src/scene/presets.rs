@@ -207,6 +207,14 @@ fn h7005c() -> Scene {
             // EHL film damping of ball-race contacts, of the order measured for ball
             // bearings (0.02-0.1); without it ball-race modes (~40 kHz) never decay.
             contact_damping_ratio: 0.05,
+            density: 870.0,
+            // Barus alpha of a light spindle base oil at 60-80 deg C (1.0-2.2e-8 1/Pa).
+            pressure_viscosity: 1.5e-8,
+            // The paper's model has neither; with both on, this bearing's cage whirls on its
+            // land at 10000 rpm (docs/model.md). Opt in with `oil_air` (oil fraction 0.01
+            // for a channelled grease) and `houpert` (factor 1, fully flooded).
+            cavity_drag: CavityDrag::None,
+            rolling_resistance: RollingResistanceModel::None,
         },
         operating: Operating {
             speed: SpeedProfile {

@@ -205,6 +205,35 @@ impl Scene {
             c.push("lubricant.contact_damping_ratio", "must be <= 1");
         }
         c.nonneg("operating.shaft_mass", o_shaft_mass(self), "kg");
+        if c.pos("lubricant.density", l.density, "kg/m^3") && l.density > 2000.0 {
+            c.push(
+                "lubricant.density",
+                "must be <= 2000 kg/m^3 (lubricating oils are 800-1000)",
+            );
+        }
+        if c.pos("lubricant.pressure_viscosity", l.pressure_viscosity, "1/Pa")
+            && l.pressure_viscosity > 1e-7
+        {
+            c.push(
+                "lubricant.pressure_viscosity",
+                "must be <= 1e-7 1/Pa (lubricating oils are 0.5-4e-8)",
+            );
+        }
+        if let CavityDrag::OilAir { oil_fraction } = l.cavity_drag {
+            let path = "lubricant.cavity_drag.oil_fraction";
+            if c.nonneg(path, oil_fraction, "-") && oil_fraction > 1.0 {
+                c.push(path, "must be <= 1 (a volume fraction)");
+            }
+        }
+        if let RollingResistanceModel::Houpert { factor } = l.rolling_resistance {
+            let path = "lubricant.rolling_resistance.factor";
+            if c.pos(path, factor, "-") && factor > 1.0 {
+                c.push(
+                    path,
+                    "must be <= 1 (starvation and heating only reduce the force)",
+                );
+            }
+        }
         match l.traction {
             Traction::Abcd { a, b, c: cc, d } => {
                 let ok = c.finite("lubricant.traction.a", a)
@@ -524,6 +553,29 @@ mod tests {
             .find(|e| e.path == "bearing.ball_diameter")
             .unwrap();
         assert_eq!(e.message, "must be > 0 m");
+    }
+
+    #[test]
+    fn drag_and_rolling_resistance_inputs_are_checked() {
+        let mut s = scene();
+        s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 1.5 };
+        s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 0.0 };
+        s.lubricant.pressure_viscosity = 1e-6;
+        let errs = s.validate().unwrap_err().0;
+        let msg = |path: &str| {
+            errs.iter()
+                .find(|e| e.path == path)
+                .map(|e| e.message.clone())
+                .unwrap_or_else(|| panic!("no error for {path}: {errs:?}"))
+        };
+        assert!(msg("lubricant.cavity_drag.oil_fraction").contains("<= 1"));
+        assert!(msg("lubricant.rolling_resistance.factor").contains("> 0"));
+        assert!(msg("lubricant.pressure_viscosity").contains("1e-7"));
+        // the limits themselves are accepted: air only, fully flooded
+        let mut s = scene();
+        s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.0 };
+        s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
+        assert!(s.validate().is_ok());
     }
 
     #[test]
