@@ -87,6 +87,10 @@ pub struct CageRecord {
     /// What `epicyclic_speed` and `slip` mean (absent in records stored before it existed).
     #[serde(default)]
     pub slip_definition: Option<String>,
+    /// The cage centre's motion on its land: quiet or whirling, eccentricity ratio and
+    /// whirl speed (absent in records stored before it existed).
+    #[serde(default)]
+    pub motion: Option<bearing_core::dynamics::CageMotion>,
     /// `rad/s`.
     pub unit: String,
 }

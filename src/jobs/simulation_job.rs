@@ -91,6 +91,7 @@ pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, V
             epicyclic_speed: s.epicyclic_cage_speed,
             slip: s.cage_slip,
             slip_definition: Some(SLIP_DEFINITION.into()),
+            motion: Some(s.cage_motion),
             unit: "rad/s".into(),
         },
         frequencies: Some(frequency_comparison(result, scene)),

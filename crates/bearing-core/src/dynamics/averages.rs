@@ -1,7 +1,7 @@
 //! Time-weighted averages over the steady window: speeds, ring reaction and contact
 //! statistics per ball and per azimuth.
 
-use super::output::{BallSummary, SolverStats, Summary};
+use super::output::{BallSummary, CageMotion, CageState, SolverStats, Summary};
 use super::rhs::Diagnostics;
 use crate::model::Model;
 use crate::physics::kinematics::rolling_kinematics;
@@ -17,6 +17,7 @@ pub struct Averages {
     balls: ContactSums,
     /// Per azimuth bin (centred on the ball positions at t = 0).
     zone: ContactSums,
+    orbit: CageOrbit,
 }
 
 impl Averages {
@@ -28,12 +29,14 @@ impl Averages {
             reaction: [0.0; 3],
             balls: ContactSums::new(z),
             zone: ContactSums::new(z),
+            orbit: CageOrbit::default(),
         }
     }
     pub fn add(&mut self, m: &Model, t: f64, w: f64, y: &[f64], d: &Diagnostics) {
         self.time += w;
         self.shaft += w * m.shaft_speed(t);
         self.cage += w * y[m.layout.cage + 9];
+        self.orbit.add(m, w, y);
         for k in 0..3 {
             self.reaction[k] += w * d.inner_reaction[k];
         }
@@ -54,6 +57,7 @@ impl Averages {
         let tt = self.time.max(f64::MIN_POSITIVE);
         let shaft = self.shaft / tt;
         let cage = self.cage / tt;
+        let cage_motion = self.orbit.finish(cage);
         let balls = self.balls.finish();
         let load_zone = self.zone.finish();
         // Pure-rolling (epicyclic) cage speed of the loaded balls: the contact angles of the
@@ -79,6 +83,64 @@ impl Averages {
             balls,
             load_zone,
             loaded_contact_angles: [ai, ao],
+            cage_motion,
+        }
+    }
+}
+
+/// The cage centre relative to its guiding ring: time-weighted eccentricity and the
+/// unwrapped azimuth of the centre (for the whirl speed).
+#[derive(Default)]
+struct CageOrbit {
+    time: f64,
+    ecc: f64,
+    max_ecc: f64,
+    /// Azimuth of the first and latest sample, rad, and the unwrapped turn since the first.
+    first: Option<f64>,
+    last: f64,
+    swept: f64,
+}
+
+impl CageOrbit {
+    fn add(&mut self, m: &Model, w: f64, y: &[f64]) {
+        let (c, o, i) = (m.layout.cage, m.layout.outer, m.layout.inner);
+        let (gy, gz) = if m.land.is_some() && !m.land_on_outer {
+            (y[i + 1], y[i + 2])
+        } else {
+            (y[o], y[o + 1])
+        };
+        let (dy, dz) = (y[c + 1] - gy, y[c + 2] - gz);
+        let e = dy.hypot(dz) / m.land.as_ref().map_or(1.0, |l| l.clearance);
+        self.time += w;
+        self.ecc += w * e;
+        self.max_ecc = self.max_ecc.max(e);
+        // azimuth measured like the balls' (from +Z towards -Y), so positive with the shaft
+        let phi = (-dy).atan2(dz);
+        match self.first {
+            None => self.first = Some(phi),
+            Some(_) => {
+                let mut d = phi - self.last;
+                d -= TAU * (d / TAU).round();
+                self.swept += d;
+            }
+        }
+        self.last = phi;
+    }
+
+    fn finish(self, cage_speed: f64) -> CageMotion {
+        let t = self.time.max(f64::MIN_POSITIVE);
+        let mean = self.ecc / t;
+        let whirl = self.swept / t;
+        let orbits = whirl.abs() > 0.1 * cage_speed.abs() && mean > 0.1;
+        CageMotion {
+            state: if orbits {
+                CageState::Whirling
+            } else {
+                CageState::Quiet
+            },
+            mean_eccentricity: mean,
+            max_eccentricity: self.max_ecc,
+            whirl_speed: whirl,
         }
     }
 }

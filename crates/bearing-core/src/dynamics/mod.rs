@@ -17,4 +17,6 @@ pub mod window;
 
 pub use control::RunControl;
 pub use error::DynError;
-pub use output::{BallSummary, Channel, Channels, SimResult, SolverStats, Summary};
+pub use output::{
+    BallSummary, CageMotion, CageState, Channel, Channels, SimResult, SolverStats, Summary,
+};

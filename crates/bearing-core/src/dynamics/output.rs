@@ -65,6 +65,38 @@ pub struct Summary {
     /// Load distribution: averages over whichever ball sits within half a ball spacing of
     /// azimuth `2 pi k / Z` (k = 0..Z), comparable with the quasi-static ball k.
     pub load_zone: Vec<BallSummary>,
+    /// How the cage centre moved relative to its guiding ring over the window.
+    #[serde(default)]
+    pub cage_motion: CageMotion,
+}
+
+/// The cage centre's motion relative to its guiding ring (the outer ring for a ball-guided
+/// cage) over the steady window.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct CageMotion {
+    /// Quiet, or whirling (the centre orbits).
+    pub state: CageState,
+    /// Mean eccentricity over the land's radial clearance, - (0 centred, 1 touching).
+    pub mean_eccentricity: f64,
+    /// Largest eccentricity ratio, -.
+    pub max_eccentricity: f64,
+    /// Mean angular speed of the centre's orbit, rad/s (positive with the shaft).
+    pub whirl_speed: f64,
+}
+
+/// Whether the cage runs quietly or whirls.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum CageState {
+    /// The centre stays near one position: it does not complete a tenth of an orbit per
+    /// cage revolution.
+    #[default]
+    Quiet,
+    /// The centre orbits at more than a tenth of the cage speed (half-speed whirl is the
+    /// usual form) with an eccentricity ratio above 0.1.
+    Whirling,
 }
 
 /// One uniformly sampled channel.
