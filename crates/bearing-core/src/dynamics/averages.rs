@@ -103,14 +103,7 @@ struct CageOrbit {
 
 impl CageOrbit {
     fn add(&mut self, m: &Model, w: f64, y: &[f64]) {
-        let (c, o, i) = (m.layout.cage, m.layout.outer, m.layout.inner);
-        let (gy, gz) = if m.land.is_some() && !m.land_on_outer {
-            (y[i + 1], y[i + 2])
-        } else {
-            (y[o], y[o + 1])
-        };
-        let (dy, dz) = (y[c + 1] - gy, y[c + 2] - gz);
-        let e = dy.hypot(dz) / m.land.as_ref().map_or(1.0, |l| l.clearance);
+        let ([dy, dz], e) = m.cage_offset(y);
         self.time += w;
         self.ecc += w * e;
         self.max_ecc = self.max_ecc.max(e);

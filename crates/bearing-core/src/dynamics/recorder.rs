@@ -103,14 +103,7 @@ impl Recorder {
                 v.push(interp(c + 9));
             }
             if let Some(v) = self.cage_ecc.as_mut() {
-                // cage centre relative to its guiding ring (outer ring unless inner-land guided)
-                let (gy, gz) = if m.land.is_some() && !m.land_on_outer {
-                    (interp(i + 1), interp(i + 2))
-                } else {
-                    (interp(o), interp(o + 1))
-                };
-                let e = (interp(c + 1) - gy).hypot(interp(c + 2) - gz);
-                v.push(m.land.as_ref().map_or(e, |l| e / l.clearance));
+                v.push(m.cage_offset(&self.scratch_y).1);
             }
             if let Some(v) = self.inner.as_mut() {
                 for k in 0..3 {

@@ -290,6 +290,22 @@ impl Model {
         }
     }
 
+    /// Cage centre relative to its guiding ring in Y and Z (m), and that offset over the
+    /// land's radial clearance (-). The guiding ring is the outer ring unless the cage is
+    /// inner-land guided; a ball-guided cage is measured from the outer ring, unscaled.
+    #[inline]
+    pub fn cage_offset(&self, y: &[f64]) -> ([f64; 2], f64) {
+        let (c, o, i) = (self.layout.cage, self.layout.outer, self.layout.inner);
+        let (gy, gz) = if self.land.is_some() && !self.land_on_outer {
+            (y[i + 1], y[i + 2])
+        } else {
+            (y[o], y[o + 1])
+        };
+        let d = [y[c + 1] - gy, y[c + 2] - gz];
+        let scale = self.land.as_ref().map_or(1.0, |l| l.clearance);
+        (d, d[0].hypot(d[1]) / scale)
+    }
+
     /// Pure-rolling (epicyclic) cage speed for shaft speed `w` and contact angle `alpha`, rad/s.
     pub fn epicyclic_cage_speed(&self, w: f64, alpha: f64) -> f64 {
         0.5 * w * (1.0 - self.ball_diameter * alpha.cos() / self.pitch_diameter)
