@@ -76,6 +76,31 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     let (st, h, body) = post_json(&c, &sims, &json!([1, 2])).await;
     assert_problem(st, &h, &body, 422);
 
+    // 422: no equilibrium to start from (10 N axial under 300 N radial, tilt locked) is
+    // refused at submission, naming both loads and the limit Fr tan(alpha0) ~ 80 N
+    let (st, h, body) = post_json(
+        &c,
+        &sims,
+        &json!({"preset": "h7005c", "overrides": {"operating": {"axial_load": 10.0}}}),
+    )
+    .await;
+    assert_problem(st, &h, &body, 422);
+    let errors = body["errors"].as_array().unwrap();
+    let paths: Vec<&str> = errors.iter().map(|e| e["path"].as_str().unwrap()).collect();
+    assert_eq!(
+        paths,
+        ["scene.operating.axial_load", "scene.operating.radial_load"],
+        "{body}"
+    );
+    let message = errors[0]["message"].as_str().unwrap();
+    assert!(
+        message.contains("Fr tan(alpha0) = ") && message.contains("300 N"),
+        "{body}"
+    );
+    // nothing was queued
+    let list = get_json(&c, &sims).await.2;
+    assert!(list["items"].as_array().unwrap().is_empty(), "{list}");
+
     // 413: body over the limit
     let big = json!({"preset": "h7005c", "overrides": {"name": "x".repeat(100_000)}});
     let (st, h, body) = post_json(&c, &sims, &big).await;

@@ -101,6 +101,14 @@ pub async fn submit(
     require_json(&headers)?;
     let mut body = as_object(parse_value(&body)?)?;
     let scene = resolve_scene(&mut body, &[])?;
+    // Refuse now what could never start (no equilibrium at t = 0), rather than fail the job
+    // later: one quasi-static solve, off the async threads.
+    let scene = tokio::task::spawn_blocking(move || {
+        bearing_core::simulation::check_start(&scene).map(|()| scene)
+    })
+    .await
+    .map_err(|e| Problem::internal(format!("start check failed: {e}")))?
+    .map_err(|e| Problem::scene_invalid("scene", &e))?;
     let input = serde_json::to_value(&scene).map_err(|e| Problem::internal(e.to_string()))?;
     enqueue(&state, &headers, KIND, scene.name.clone(), input, None).await
 }
