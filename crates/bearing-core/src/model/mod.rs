@@ -10,9 +10,10 @@ use crate::physics::drag::{BallDrag, CavityMedium};
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race, Strips};
 use crate::physics::rolling_resistance::RollingResistance;
-use crate::physics::traction::TractionCurve;
+use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve};
 use crate::scene::{
-    CageGuidance, CavityDrag, HertzModel, Ring, RollingResistanceModel, TiltMode, ValidScene,
+    CageGuidance, CavityDrag, HertzModel, Ring, RollingResistanceModel, TiltMode, Traction,
+    ValidScene,
 };
 use std::f64::consts::PI;
 
@@ -104,6 +105,25 @@ impl Model {
                 centre_axial,
                 free_distance: (f - 0.5) * d,
                 hertz: hertz(rx, ry, ep_race),
+                film_traction: match lub.traction {
+                    Traction::Film {
+                        shear_modulus,
+                        eyring_stress,
+                        limiting_coefficient,
+                    } => Some(FilmTraction::new(
+                        ep_race,
+                        rx,
+                        &hertz(rx, ry, ep_race),
+                        &FilmRheology {
+                            eta0: lub.dynamic_viscosity,
+                            alpha: lub.pressure_viscosity,
+                            shear_modulus,
+                            eyring_stress,
+                            limiting: limiting_coefficient,
+                        },
+                    )),
+                    _ => None,
+                },
                 rolling: match lub.rolling_resistance {
                     RollingResistanceModel::None => None,
                     RollingResistanceModel::Houpert { factor } => Some(RollingResistance::new(
@@ -144,7 +164,8 @@ impl Model {
             0.0,
         );
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
-        let (ta, tb, tc, td) = scene.lubricant.traction.abcd();
+        // the curve's coefficients; unused when each race carries a film law
+        let (ta, tb, tc, td) = scene.lubricant.traction.abcd().unwrap_or((0.0, 0.0, 0.0, 0.0));
         let contact = ContactParams {
             traction: TractionCurve {
                 a: ta,

@@ -4,7 +4,7 @@
 use super::defect::{race_defects_effect, RaceDefect};
 use super::hertz::HertzContact;
 use super::rolling_resistance::RollingResistance;
-use super::traction::TractionCurve;
+use super::traction::{ContactTraction, FilmTraction, TractionCurve};
 use nalgebra::{Matrix3, Vector3};
 
 /// Constant data of one raceway.
@@ -31,6 +31,9 @@ pub struct Race {
     /// Defects on this race, in its body frame.
     pub defects: Vec<RaceDefect>,
     /// EHL rolling resistance of this ball-race pair; None to leave it out.
+    /// The elastic-plastic film traction law of this pair; `None` uses the contact
+    /// parameters' curve.
+    pub film_traction: Option<FilmTraction>,
     pub rolling: Option<RollingResistance>,
 }
 
@@ -308,6 +311,19 @@ pub fn strip_traction(
     let c0 = tangential(ring.velocity + ring.spin * ring_axis.cross(&ball_to_ring) - ball.velocity);
     let c1 = tangential(ring.spin * ring_axis.cross(u) - ball.omega.cross(u));
     let c2 = tangential(ring.spin * ring_axis.cross(&s_hat) - ball.omega.cross(&s_hat));
+    let law = match &race.film_traction {
+        None => ContactTraction::Curve(p.traction),
+        Some(film) => {
+            // entrainment: the mean of the two surfaces' speeds relative to the contact,
+            // which moves with the ball centre
+            let r_b = rb * u;
+            let v_ball = ball.omega.cross(&r_b);
+            let v_ring = ring.velocity + ring.spin * ring_axis.cross(&(ball_to_ring + r_b))
+                - ball.velocity;
+            let um = tangential(0.5 * (v_ball + v_ring)).norm();
+            film.at(q, um)
+        }
+    };
     // Sum the tractions and their first moments in h and y: the moments of all strips about
     // the ball centre are then `u x sum(h tr) + s_hat x sum(y tr)`.
     let mut f_tr = Vector3::zeros();
@@ -319,7 +335,7 @@ pub fn strip_traction(
         let h = (rp * rp - y * y).sqrt() + base;
         let v = c0 + h * c1 + y * c2;
         // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
-        let tr = (q * w * p.traction.mu_over_s(v.norm())) * v;
+        let tr = (q * w * law.mu_over_s(v.norm())) * v;
         f_tr += tr;
         f_h += h * tr;
         f_y += y * tr;
@@ -401,6 +417,7 @@ mod tests {
             rx: 0.5 * D,
             defects: vec![],
             rolling: None,
+            film_traction: None,
         }
     }
 

@@ -1,4 +1,9 @@
-//! EHL traction coefficient (eqs. 14-15) and its slip-direction decomposition (eq. 16).
+//! EHL traction coefficient (eqs. 14-15) and its slip-direction decomposition (eq. 16), and
+//! an elastic-plastic film law from the lubricant's properties (docs/model.md, "Traction
+//! laws").
+
+use super::hertz::HertzContact;
+use std::f64::consts::PI;
 
 /// Traction curve `mu(s) = (a + b s) exp(-c s) + d`, s the slip speed in m/s.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,6 +42,156 @@ impl TractionCurve {
     }
 }
 
+/// Below this entrainment speed (m/s) the film law takes this speed: the film thickness and
+/// the elastic slope diverge as the speed vanishes. A numerical floor far below running
+/// speeds: on the H7005C it binds below about 10 rpm (1 rpm entrains at about 1 mm/s).
+pub const FILM_SPEED_FLOOR: f64 = 0.01;
+
+/// Barus exponents above this are capped (the viscous compliance is then negligible).
+const MAX_BARUS_EXPONENT: f64 = 50.0;
+
+/// EHL film traction of one ball-race pair from the lubricant's rheology (docs/model.md,
+/// "Traction laws"), a closed-form reading of the Maxwell-Eyring film with a limiting shear
+/// stress:
+/// - at small slip the film shears elastically over its transit of the contact (Johnson &
+///   Tevaarwerk 1977: mean stress `G b s / (u h)`) in series with its piezoviscous flow
+///   (Barus viscosity at the mean Hertz pressure): slope `k` = both compliances added;
+/// - above the Eyring stress `tau0` the stress grows only logarithmically:
+///   `mu_E = (tau0 / p) asinh(k s p / tau0)` (Eyring; Johnson & Tevaarwerk);
+/// - the film cannot carry more than `Lambda p` (Bair & Winer 1979):
+///   `mu = Lambda tanh(mu_E / Lambda)`, the tanh transition of Gecim & Winer (1980).
+///
+/// Film thickness: Hamrock & Dowson's central formula; `p` the mean Hertz pressure.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilmTraction {
+    /// Limiting shear stress over pressure, -.
+    pub limiting: f64,
+    /// Eyring stress, Pa.
+    pub eyring_stress: f64,
+    /// Film shear modulus, Pa.
+    pub shear_modulus: f64,
+    /// Inlet viscosity, Pa s.
+    pub eta0: f64,
+    /// Pressure-viscosity coefficient, 1/Pa.
+    pub alpha: f64,
+    /// `h_c = h_coef u^0.67 Q^-0.067` (Hamrock-Dowson), m (m/s)^-0.67 N^0.067.
+    h_coef: f64,
+    /// Semi-axes per cube-root load across (`a`) and along (`b`) the rolling direction,
+    /// m/N^(1/3).
+    a_coef: f64,
+    b_coef: f64,
+}
+
+/// The lubricant's rheology for [`FilmTraction`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilmRheology {
+    /// Inlet viscosity, Pa s.
+    pub eta0: f64,
+    /// Pressure-viscosity coefficient, 1/Pa.
+    pub alpha: f64,
+    /// Elastic shear modulus of the film, Pa.
+    pub shear_modulus: f64,
+    /// Eyring stress, Pa.
+    pub eyring_stress: f64,
+    /// Limiting shear stress over pressure, -.
+    pub limiting: f64,
+}
+
+impl FilmTraction {
+    /// Constants for effective modulus `e_prime` (Pa), relative radius `rx` in the rolling
+    /// direction (m), the pair's Hertz contact and the lubricant's rheology.
+    pub fn new(e_prime: f64, rx: f64, hertz: &HertzContact, r: &FilmRheology) -> Self {
+        let ellipticity = hertz.a_coef / hertz.b_coef;
+        // H = 2.69 U^0.67 G^0.53 W^-0.067 (1 - 0.61 exp(-0.73 k)), h = Rx H
+        let h_coef = rx
+            * 2.69
+            * (r.eta0 / (e_prime * rx)).powf(0.67)
+            * (r.alpha * e_prime).powf(0.53)
+            * (e_prime * rx * rx).powf(0.067)
+            * (1.0 - 0.61 * (-0.73 * ellipticity).exp());
+        FilmTraction {
+            limiting: r.limiting,
+            eyring_stress: r.eyring_stress,
+            shear_modulus: r.shear_modulus,
+            eta0: r.eta0,
+            alpha: r.alpha,
+            h_coef,
+            a_coef: hertz.a_coef,
+            b_coef: hertz.b_coef,
+        }
+    }
+
+    /// Central film thickness at load `q` (N) and entrainment speed `um` (m/s), m.
+    #[inline]
+    pub fn film_thickness(&self, q: f64, um: f64) -> f64 {
+        self.h_coef * um.max(FILM_SPEED_FLOOR).powf(0.67) * q.powf(-0.067)
+    }
+
+    /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s).
+    #[inline]
+    pub fn at(&self, q: f64, um: f64) -> ContactTraction {
+        let um = um.max(FILM_SPEED_FLOOR);
+        let q13 = q.cbrt();
+        let b = self.b_coef * q13;
+        let p_mean = q / (PI * self.a_coef * q13 * b);
+        let h = self.film_thickness(q, um);
+        // compliances in series (Maxwell): elastic shear over the transit 2b, viscous flow
+        let elastic = self.shear_modulus * b / (um * h * p_mean);
+        let eta = self.eta0 * (self.alpha * p_mean).min(MAX_BARUS_EXPONENT).exp();
+        let viscous = eta / (h * p_mean);
+        ContactTraction::Film {
+            slope: 1.0 / (1.0 / elastic + 1.0 / viscous),
+            pressure_over_eyring: p_mean / self.eyring_stress,
+            limiting: self.limiting,
+        }
+    }
+}
+
+/// A traction law evaluated for one contact: the coefficient's `mu(s) / s` per strip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactTraction {
+    /// The scene's `mu(s)` curve (eq. 15).
+    Curve(TractionCurve),
+    /// [`FilmTraction`] at one load and speed: low-slip slope (s/m), mean pressure over the
+    /// Eyring stress (-), limiting coefficient (-).
+    Film {
+        slope: f64,
+        pressure_over_eyring: f64,
+        limiting: f64,
+    },
+}
+
+impl ContactTraction {
+    /// `mu(s) / s`, finite at s = 0, 1/(m/s).
+    #[inline]
+    pub fn mu_over_s(&self, s: f64) -> f64 {
+        match *self {
+            ContactTraction::Curve(c) => c.mu_over_s(s),
+            ContactTraction::Film {
+                slope,
+                pressure_over_eyring: r,
+                limiting,
+            } => {
+                // Eyring: mu_E / s = asinh(z) / (r s), z = k s r (series: asinh z / z ~ 1 - z^2/6)
+                let z = slope * s * r;
+                let mu_e_over_s = if z < 1e-4 {
+                    slope * (1.0 - z * z / 6.0)
+                } else {
+                    z.asinh() / (r * s)
+                };
+                // limiting shear: tanh x / x ~ 1 - x^2/3
+                let x = mu_e_over_s * s / limiting;
+                let t = if x < 1e-4 {
+                    1.0 - x * x / 3.0
+                } else {
+                    x.tanh() / x
+                };
+                mu_e_over_s * t
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,5 +212,56 @@ mod tests {
         let s = SLIP_REGULARIZATION;
         assert!((t.mu(s * (1.0 - 1e-9)) - t.mu(s * (1.0 + 1e-9))).abs() < 1e-9);
         assert!((t.mu_over_s(0.3) * 0.3 - t.mu(0.3)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn film_law_matches_hand_figures() {
+        use crate::physics::hertz::exact;
+        // A steel ball-race pair of the H7005C's size in round numbers: Rx 2.5 mm, Ry 20 mm,
+        // E' 228 GPa; eta0 0.03 Pa s, alpha 1.5e-8 1/Pa, G 1 GPa, tau0 5 MPa, Lambda 0.07.
+        let (rx, ry, ep) = (2.5e-3, 20e-3, 2.28e11);
+        let hz = exact(rx, ry, ep);
+        let rheology = FilmRheology {
+            eta0: 0.03,
+            alpha: 1.5e-8,
+            shear_modulus: 1e9,
+            eyring_stress: 5e6,
+            limiting: 0.07,
+        };
+        let f = FilmTraction::new(ep, rx, &hz, &rheology);
+        let (q, um) = (100.0, 10.0);
+        // Hamrock-Dowson by hand: U = eta0 um/(E' Rx), G = alpha E', W = Q/(E' Rx^2)
+        let u = 0.03 * um / (ep * rx);
+        let g = 1.5e-8 * ep;
+        let w = q / (ep * rx * rx);
+        let k = hz.a_coef / hz.b_coef;
+        let h = rx * 2.69 * u.powf(0.67) * g.powf(0.53) * w.powf(-0.067)
+            * (1.0 - 0.61 * (-0.73 * k).exp());
+        assert!((f.film_thickness(q, um) / h - 1.0).abs() < 1e-12);
+        // a film of a few tenths of a micrometre, as EHL ball contacts run
+        assert!((0.1e-6..1.0e-6).contains(&h), "{h}");
+        let (a, b) = (hz.a_coef * q.cbrt(), hz.b_coef * q.cbrt());
+        let p = q / (PI * a * b);
+        let el = 1e9 * b / (um * h * p);
+        let vi = 0.03 * (1.5e-8 * p).exp() / (h * p);
+        let slope = el * vi / (el + vi);
+        let law = f.at(q, um);
+        let mu = |s: f64| law.mu_over_s(s) * s;
+        // linear at small slip with the series slope
+        assert!((law.mu_over_s(0.0) / slope - 1.0).abs() < 1e-12);
+        assert!((mu(1e-9) / (slope * 1e-9) - 1.0).abs() < 1e-6);
+        // Eyring region by hand, and the limiting shear stress at large slip
+        let s = 0.01;
+        let mu_e = 5e6 / p * (slope * s * p / 5e6).asinh();
+        assert!((mu(s) / (0.07 * (mu_e / 0.07).tanh()) - 1.0).abs() < 1e-12);
+        assert!(mu(s) < 0.07 && mu(s) > 0.01, "{}", mu(s));
+        // above the Eyring stress mu grows only logarithmically, and never past Lambda
+        assert!(mu(1.0) < mu(1e3) && mu(1e3) < 0.07, "{} {}", mu(1.0), mu(1e3));
+        // mu / s continuous where the series switch in
+        for z_switch in [1e-4 / (slope * p / 5e6)] {
+            let below = law.mu_over_s(z_switch * (1.0 - 1e-9));
+            let above = law.mu_over_s(z_switch * (1.0 + 1e-9));
+            assert!((below / above - 1.0).abs() < 1e-9);
+        }
     }
 }

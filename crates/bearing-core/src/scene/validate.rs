@@ -264,6 +264,18 @@ impl Scene {
                     );
                 }
             }
+            Traction::Film {
+                shear_modulus,
+                eyring_stress,
+                limiting_coefficient,
+            } => {
+                c.pos("lubricant.traction.shear_modulus", shear_modulus, "Pa");
+                c.pos("lubricant.traction.eyring_stress", eyring_stress, "Pa");
+                let path = "lubricant.traction.limiting_coefficient";
+                if c.pos(path, limiting_coefficient, "-") && limiting_coefficient > 0.5 {
+                    c.push(path, "must be <= 0.5 (EHL films limit near 0.03-0.1)");
+                }
+            }
         }
 
         let o = &self.operating;
@@ -576,6 +588,39 @@ mod tests {
         s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.0 };
         s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
         assert!(s.validate().is_ok());
+    }
+
+    #[test]
+    fn film_traction_inputs_are_checked() {
+        let mut s = scene();
+        s.lubricant.traction = Traction::Film {
+            shear_modulus: 0.0,
+            eyring_stress: f64::NAN,
+            limiting_coefficient: 0.8,
+        };
+        let errs = s.validate().unwrap_err().0;
+        let paths: Vec<&str> = errs.iter().map(|e| e.path.as_str()).collect();
+        assert_eq!(
+            paths,
+            [
+                "lubricant.traction.shear_modulus",
+                "lubricant.traction.eyring_stress",
+                "lubricant.traction.limiting_coefficient"
+            ],
+            "{errs:?}"
+        );
+        // the defaults parse from the JSON tag alone and validate
+        let mut s = scene();
+        s.lubricant.traction = serde_json::from_str(r#"{"model": "film"}"#).unwrap();
+        assert!(s.validate().is_ok());
+        assert_eq!(
+            s.lubricant.traction,
+            Traction::Film {
+                shear_modulus: 1e9,
+                eyring_stress: 5e6,
+                limiting_coefficient: 0.07
+            }
+        );
     }
 
     #[test]
