@@ -3,6 +3,7 @@
 //! Layers, each importing only from those above it in this list:
 //! - [`store`]: durable jobs and their outputs behind the [`store::Store`] trait (SQLite).
 //! - [`config`], [`metrics`]: service settings and Prometheus counters.
+//! - [`plots`]: SVG charts of engine results (plotters' SVG backend).
 //! - [`jobs`]: workers that claim jobs, run the engine, and store typed records.
 //! - [`api`]: the axum router, request parsing and problem+json errors.
 //! - [`serve`]: a running service (store + workers + router) on a listener.
@@ -15,6 +16,7 @@ pub mod cli;
 pub mod config;
 pub mod jobs;
 pub mod metrics;
+pub mod plots;
 pub mod serve;
 pub mod store;
 

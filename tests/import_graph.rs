@@ -56,6 +56,8 @@ const LAYERS: &[Layers] = &[
             ("simulation", 5),
             // The glue that analyses a simulated signal sits above both.
             ("simulation_analysis", 6),
+            // Studies run points and read them with the analysis glue.
+            ("study", 7),
             (ROOT, 10),
         ],
         allowed: &[],
@@ -66,6 +68,8 @@ const LAYERS: &[Layers] = &[
         ranks: &[
             ("store", 10),
             ("metrics", 11),
+            // Plots draw engine types to SVG; the CLI and (later) the API use them.
+            ("plots", 11),
             ("config", 12),
             ("jobs", 13),
             ("api", 14),

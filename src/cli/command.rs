@@ -1,7 +1,7 @@
 //! The `bearing-sim` command line: its subcommands and their dispatch.
 
 use super::result::CliResult;
-use super::{analyze, bench, quasi_static, run, scene_cmd, serve_cmd};
+use super::{analyze, bench, quasi_static, run, scene_cmd, serve_cmd, study};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -29,6 +29,8 @@ enum Command {
     Serve(serve_cmd::ServeArgs),
     /// Time the engine and the analysis on this machine.
     Bench(bench::BenchArgs),
+    /// Run a parameter study (the paper's Figures 23-28) and write its table and plots.
+    Study(study::StudyArgs),
 }
 
 impl Cli {
@@ -40,6 +42,7 @@ impl Cli {
             Command::Analyze(a) => analyze::main(a),
             Command::Serve(a) => serve_cmd::main(a),
             Command::Bench(a) => bench::main(a),
+            Command::Study(a) => study::main(a),
         }
     }
 }

@@ -9,6 +9,7 @@ pub mod run;
 pub mod scene_arg;
 pub mod scene_cmd;
 pub mod serve_cmd;
+pub mod study;
 
 pub use command::Cli;
 pub use result::CliResult;

@@ -20,6 +20,8 @@
 //! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification. It
 //!   knows bearings (scene) but nothing of simulations.
 //! - [`simulation_analysis`]: the glue that analyses a simulated signal (above both).
+//! - [`study`]: parameter studies (the paper's Figures 23-28): designs as data, a point run
+//!   and read into a table row.
 
 pub mod dynamics;
 pub mod json_float;
@@ -30,3 +32,4 @@ pub mod scene;
 pub mod signal;
 pub mod simulation;
 pub mod simulation_analysis;
+pub mod study;
