@@ -4,7 +4,7 @@
 use super::defect::{race_defects_effect, RaceDefect};
 use super::hertz::HertzContact;
 use super::rolling_resistance::RollingResistance;
-use super::traction::{ContactTraction, FilmTraction, TractionCurve};
+use super::traction::{film_mu_over_s, ContactTraction, FilmTraction, TractionCurve};
 use nalgebra::{Matrix3, Vector3};
 
 /// Constant data of one raceway.
@@ -325,25 +325,66 @@ pub fn strip_traction(
         }
     };
     // Sum the tractions and their first moments in h and y: the moments of all strips about
-    // the ball centre are then `u x sum(h tr) + s_hat x sum(y tr)`.
-    let mut f_tr = Vector3::zeros();
-    let mut f_h = Vector3::zeros();
-    let mut f_y = Vector3::zeros();
-    for (&xi, &w) in p.strips.xi.iter().zip(&p.strips.weight) {
-        let y = a_eff * xi;
-        // eq. 9: strip position relative to the ball centre
-        let h = (rp * rp - y * y).sqrt() + base;
-        let v = c0 + h * c1 + y * c2;
-        // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
-        let tr = (q * w * law.mu_over_s(v.norm())) * v;
-        f_tr += tr;
-        f_h += h * tr;
-        f_y += y * tr;
-    }
+    // the ball centre are then `u x sum(h tr) + s_hat x sum(y tr)`. One loop per law
+    // (monomorphised), so the strips do not branch on it.
+    let strips = StripSums {
+        p,
+        a_eff,
+        rp,
+        base,
+        q,
+        c: [c0, c1, c2],
+    };
+    let (f_tr, f_h, f_y) = match law {
+        ContactTraction::Curve(curve) => strips.sum(|s| curve.mu_over_s(s)),
+        ContactTraction::Film {
+            slope,
+            pressure_over_eyring,
+            limiting,
+        } => strips.sum(|s| film_mu_over_s(slope, pressure_over_eyring, limiting, s)),
+    };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
     // the ring takes each strip's reaction at r_pr = ball_to_ring + r_pb
     let m_ring = -(ball_to_ring.cross(&f_tr) + m_ball);
     (f_tr, m_ball, m_ring)
+}
+
+/// What the strip loop of one contact needs: the strips, the ellipse's effective semi-axis
+/// (m), the deformed surface's radius and offset (m), the load (N) and the slip's linear
+/// coefficients `c0 + h c1 + y c2` (m/s, 1/s).
+struct StripSums<'a> {
+    p: &'a ContactParams,
+    a_eff: f64,
+    rp: f64,
+    base: f64,
+    q: f64,
+    c: [Vector3<f64>; 3],
+}
+
+impl StripSums<'_> {
+    /// Sum of the strip tractions on the ball and their first moments in h and y (eqs. 9-16).
+    #[inline(always)]
+    fn sum(
+        &self,
+        mu_over_s: impl Fn(f64) -> f64,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let [c0, c1, c2] = self.c;
+        let mut f_tr = Vector3::zeros();
+        let mut f_h = Vector3::zeros();
+        let mut f_y = Vector3::zeros();
+        for (&xi, &w) in self.p.strips.xi.iter().zip(&self.p.strips.weight) {
+            let y = self.a_eff * xi;
+            // eq. 9: strip position relative to the ball centre
+            let h = (self.rp * self.rp - y * y).sqrt() + self.base;
+            let v = c0 + h * c1 + y * c2;
+            // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
+            let tr = (self.q * w * mu_over_s(v.norm())) * v;
+            f_tr += tr;
+            f_h += h * tr;
+            f_y += y * tr;
+        }
+        (f_tr, f_h, f_y)
+    }
 }
 
 #[cfg(test)]

@@ -169,27 +169,33 @@ impl ContactTraction {
             ContactTraction::Curve(c) => c.mu_over_s(s),
             ContactTraction::Film {
                 slope,
-                pressure_over_eyring: r,
+                pressure_over_eyring,
                 limiting,
-            } => {
-                // Eyring: mu_E / s = asinh(z) / (r s), z = k s r (series: asinh z / z ~ 1 - z^2/6)
-                let z = slope * s * r;
-                let mu_e_over_s = if z < 1e-4 {
-                    slope * (1.0 - z * z / 6.0)
-                } else {
-                    z.asinh() / (r * s)
-                };
-                // limiting shear: tanh x / x ~ 1 - x^2/3
-                let x = mu_e_over_s * s / limiting;
-                let t = if x < 1e-4 {
-                    1.0 - x * x / 3.0
-                } else {
-                    x.tanh() / x
-                };
-                mu_e_over_s * t
-            }
+            } => film_mu_over_s(slope, pressure_over_eyring, limiting, s),
         }
     }
+}
+
+/// The film law's `mu(s) / s` (see [`FilmTraction`]) for low-slip slope `slope` (s/m), mean
+/// pressure over the Eyring stress `r` (-) and limiting coefficient `limiting` (-); finite at
+/// s = 0, 1/(m/s).
+#[inline]
+pub fn film_mu_over_s(slope: f64, r: f64, limiting: f64, s: f64) -> f64 {
+    // Eyring: mu_E / s = asinh(z) / (r s), z = k s r (series: asinh z / z ~ 1 - z^2/6)
+    let z = slope * s * r;
+    let mu_e_over_s = if z < 1e-4 {
+        slope * (1.0 - z * z / 6.0)
+    } else {
+        z.asinh() / (r * s)
+    };
+    // limiting shear: tanh x / x ~ 1 - x^2/3
+    let x = mu_e_over_s * s / limiting;
+    let t = if x < 1e-4 {
+        1.0 - x * x / 3.0
+    } else {
+        x.tanh() / x
+    };
+    mu_e_over_s * t
 }
 
 #[cfg(test)]
