@@ -199,36 +199,26 @@ pub fn paper_trends(lubricant: &LubricantVariant, duration: f64) -> Vec<StudyPoi
     points
 }
 
-/// The sensitivity design: each trend's end points (4000 / 12000 rpm, 100 / 400 N axial,
-/// 100 / 600 N radial) for an outer fault, under every lubricant variant given.
+/// The sensitivity design: the speed and axial-load lines' end points (4000 / 12000 rpm at
+/// Fa 100 N; 100 / 400 N axial at 10000 rpm; Fr 300 N) for an outer fault, under every
+/// lubricant variant given. The radial line is left out: it is flat in every run so far, and
+/// its far end (600 N) sets the cage whirling, which costs minutes per point.
 pub fn sensitivity(variants: &[LubricantVariant], duration: f64) -> Vec<StudyPoint> {
     let mut points = Vec::new();
     for v in variants {
-        let point = |factor, rpm, axial_load, radial_load| StudyPoint {
+        let point = |factor, rpm, axial_load| StudyPoint {
             factor,
             fault: FaultCase::Outer,
             rpm,
             axial_load,
-            radial_load,
+            radial_load: 300.0,
             lubricant: v.clone(),
             duration,
         };
-        points.push(point(Factor::Speed, 4000.0, 100.0, 300.0));
-        points.push(point(Factor::Speed, 12000.0, 100.0, 300.0));
-        points.push(point(Factor::AxialLoad, 10_000.0, 100.0, 300.0));
-        points.push(point(Factor::AxialLoad, 10_000.0, 400.0, 300.0));
-        points.push(point(
-            Factor::RadialLoad,
-            10_000.0,
-            TREND_RADIAL_LINE_AXIAL_LOAD,
-            100.0,
-        ));
-        points.push(point(
-            Factor::RadialLoad,
-            10_000.0,
-            TREND_RADIAL_LINE_AXIAL_LOAD,
-            600.0,
-        ));
+        points.push(point(Factor::Speed, 4000.0, 100.0));
+        points.push(point(Factor::Speed, 12000.0, 100.0));
+        points.push(point(Factor::AxialLoad, 10_000.0, 100.0));
+        points.push(point(Factor::AxialLoad, 10_000.0, 400.0));
     }
     points
 }
