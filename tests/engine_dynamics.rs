@@ -3,8 +3,7 @@
 use bearing_core::dynamics::CageState;
 use bearing_core::quasi_static::solve;
 use bearing_core::scene::{
-    fault_case_scene, preset_scene, CavityDrag, FaultCase, RollingResistanceModel, Scene,
-    Traction,
+    fault_case_scene, preset_scene, CavityDrag, FaultCase, RollingResistanceModel, Scene, Traction,
 };
 use bearing_core::simulation::{simulate, RunControl, SimResult};
 use bearing_core::simulation_analysis::steady_band_rms;

@@ -47,7 +47,11 @@ fn a_point_over_its_budget_stops_and_says_where() {
     let mut p = point(FaultCase::Outer);
     p.duration = 10.0;
     match run_point(&p, Some(Duration::from_millis(300))) {
-        Err(e @ PointError::OverBudget { reached, duration, .. }) => {
+        Err(
+            e @ PointError::OverBudget {
+                reached, duration, ..
+            },
+        ) => {
             assert!(reached > 0.0 && reached < 1.0 && duration == 10.0, "{e}");
             assert!(e.to_string().contains("wall-time budget"), "{e}");
         }

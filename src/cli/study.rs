@@ -61,11 +61,18 @@ pub fn main(args: StudyArgs) -> CliResult {
             .cloned()
             .ok_or_else(|| {
                 let names: Vec<&str> = catalogue.iter().map(|v| v.name.as_str()).collect();
-                format!("lubricant variant '{name}': expected one of {}", names.join(", "))
+                format!(
+                    "lubricant variant '{name}': expected one of {}",
+                    names.join(", ")
+                )
             })
     };
     if !(args.duration > 0.0 && args.duration.is_finite()) {
-        return Err(format!("--duration {}: must be a positive number of seconds", args.duration).into());
+        return Err(format!(
+            "--duration {}: must be a positive number of seconds",
+            args.duration
+        )
+        .into());
     }
     let points = match args.design {
         Design::PaperTrends => paper_trends(&find(&args.lubricant)?, args.duration),
@@ -73,15 +80,21 @@ pub fn main(args: StudyArgs) -> CliResult {
             let variants = if args.variants.is_empty() {
                 catalogue.clone()
             } else {
-                args.variants.iter().map(|n| find(n)).collect::<Result<_, _>>()?
+                args.variants
+                    .iter()
+                    .map(|n| find(n))
+                    .collect::<Result<_, _>>()?
             };
             sensitivity(&variants, args.duration)
         }
     };
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("--out {}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("--out {}: {e}", args.out.display()))?;
     if !(args.point_budget >= 0.0 && args.point_budget.is_finite()) {
-        return Err(format!("--point-budget {}: must be a finite number of seconds >= 0", args.point_budget).into());
+        return Err(format!(
+            "--point-budget {}: must be a finite number of seconds >= 0",
+            args.point_budget
+        )
+        .into());
     }
     let budget = (args.point_budget > 0.0).then(|| Duration::from_secs_f64(args.point_budget));
     let (rows, failed) = run_points(&points, args.workers.max(1), budget)?;
@@ -96,7 +109,15 @@ pub fn main(args: StudyArgs) -> CliResult {
         println!("Points without a row:");
         println!();
         for f in &failed {
-            println!("- {:?} fault, {} rpm, Fa {} N, Fr {} N ({}): {}", f.point.fault, f.point.rpm, f.point.axial_load, f.point.radial_load, f.point.lubricant.name, f.error);
+            println!(
+                "- {:?} fault, {} rpm, Fa {} N, Fr {} N ({}): {}",
+                f.point.fault,
+                f.point.rpm,
+                f.point.axial_load,
+                f.point.radial_load,
+                f.point.lubricant.name,
+                f.error
+            );
         }
     }
     Ok(())
@@ -233,7 +254,8 @@ fn write_table(dir: &Path, rows: &[StudyRow]) -> Result<(), String> {
         csv.push('\n');
     }
     let write = |name: &str, text: &str| {
-        std::fs::write(dir.join(name), text).map_err(|e| format!("{}: {e}", dir.join(name).display()))
+        std::fs::write(dir.join(name), text)
+            .map_err(|e| format!("{}: {e}", dir.join(name).display()))
     };
     write("table.csv", &csv)?;
     write(
@@ -263,8 +285,12 @@ fn write_trend_plots(dir: &Path, rows: &[StudyRow]) -> Result<(), String> {
             let line = &sel[0].line;
             let all = [
                 series(&format!("{line}, eq. 37 (15 deg)"), false, &|r| r.theory_hz),
-                series(&format!("{line}, raw envelope spectrum"), false, &|r| r.raw_hz),
-                series(&format!("{line}, best DTCWT component"), false, &|r| r.best_hz),
+                series(&format!("{line}, raw envelope spectrum"), false, &|r| {
+                    r.raw_hz
+                }),
+                series(&format!("{line}, best DTCWT component"), false, &|r| {
+                    r.best_hz
+                }),
                 series("error, raw envelope spectrum", true, &|r| r.raw_error_pct),
                 series("error, from the cage speed", true, &|r| r.cage_error_pct),
             ];
@@ -288,7 +314,9 @@ fn write_trend_plots(dir: &Path, rows: &[StudyRow]) -> Result<(), String> {
 
 fn print_markdown(rows: &[StudyRow]) {
     println!("| fault | factor | value | lubricant | eq. 37 (Hz) | raw (Hz) | raw error (%) | raw prominence (dB) | best level | best error (%) | cage error (%) | cage | e | wall (s) |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!(
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    );
     for r in rows {
         println!(
             "| {:?} | {} | {} | {} | {:.2} | {:.2} | {:+.3} | {:.1} | {} | {:+.3} | {:+.3} | {:?} | {:.2} | {:.1} |",

@@ -42,11 +42,7 @@ fn range(values: impl Iterator<Item = f64>, include_zero: bool) -> std::ops::Ran
 }
 
 /// Draw the chart, 800 x 500 px, and return the SVG text.
-pub fn trend_svg(
-    title: &str,
-    x_label: &str,
-    series: &[TrendSeries],
-) -> Result<String, PlotError> {
+pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<String, PlotError> {
     let finite = |s: &&TrendSeries| s.points.iter().any(|p| p.1.is_finite());
     let all_x = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
     let x = range(all_x, false);
@@ -92,7 +88,12 @@ pub fn trend_svg(
             .map_err(PlotError::from_display)?;
         for (i, s) in series.iter().filter(finite).enumerate() {
             let color = COLORS[i % COLORS.len()];
-            let pts: Vec<(f64, f64)> = s.points.iter().copied().filter(|p| p.1.is_finite()).collect();
+            let pts: Vec<(f64, f64)> = s
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.1.is_finite())
+                .collect();
             let style = if s.on_error_axis {
                 color.stroke_width(1)
             } else {
@@ -112,7 +113,9 @@ pub fn trend_svg(
                     .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], style));
                 chart
                     .draw_secondary_series(
-                        marker.into_iter().map(|p| TriangleMarker::new(p, 4, color.filled())),
+                        marker
+                            .into_iter()
+                            .map(|p| TriangleMarker::new(p, 4, color.filled())),
                     )
                     .map_err(PlotError::from_display)?;
             } else {
@@ -122,7 +125,11 @@ pub fn trend_svg(
                     .label(label)
                     .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], style));
                 chart
-                    .draw_series(marker.into_iter().map(|p| Circle::new(p, 3, color.filled())))
+                    .draw_series(
+                        marker
+                            .into_iter()
+                            .map(|p| Circle::new(p, 3, color.filled())),
+                    )
                     .map_err(PlotError::from_display)?;
             }
         }

@@ -159,35 +159,6 @@ fn loaded_contact_angles(zone: &[BallSummary], fallback: f64) -> [f64; 2] {
     ]
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn loaded_angles_follow_the_loaded_azimuths() {
-        // a loaded bin at 15/13 deg and a nearly unloaded one at 25/5 deg
-        let bin = |q: f64, ai: f64, ao: f64| BallSummary {
-            inner_load: q,
-            outer_load: q + 2.5,
-            inner_contact_angle: ai.to_radians(),
-            outer_contact_angle: ao.to_radians(),
-        };
-        let zone = [
-            bin(90.0, 15.0, 13.0),
-            bin(0.5, 25.0, 5.0),
-            BallSummary {
-                inner_contact_angle: f64::NAN,
-                ..bin(0.0, 0.0, 0.0)
-            },
-        ];
-        let [ai, ao] = loaded_contact_angles(&zone, 0.0);
-        // (90 * 15 + 0.5 * 25) / 90.5 deg and (92.5 * 13 + 3 * 5 + 2.5 * 0) / 98 deg
-        assert!((ai.to_degrees() - (90.0 * 15.0 + 0.5 * 25.0) / 90.5).abs() < 1e-12);
-        assert!((ao.to_degrees() - (92.5 * 13.0 + 3.0 * 5.0) / 98.0).abs() < 1e-12);
-        assert_eq!(loaded_contact_angles(&[], 0.26), [0.26, 0.26]);
-    }
-}
-
 /// Time-weighted contact statistics in bins: one bin per ball, or per azimuth (bin k
 /// collects whichever ball is within half a ball spacing of `2 pi k / Z`, so it compares
 /// with quasi-static ball k). Angles are averaged over the time the contact is loaded.
@@ -247,5 +218,34 @@ impl ContactSums {
                 }
             })
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn loaded_angles_follow_the_loaded_azimuths() {
+        // a loaded bin at 15/13 deg and a nearly unloaded one at 25/5 deg
+        let bin = |q: f64, ai: f64, ao: f64| BallSummary {
+            inner_load: q,
+            outer_load: q + 2.5,
+            inner_contact_angle: ai.to_radians(),
+            outer_contact_angle: ao.to_radians(),
+        };
+        let zone = [
+            bin(90.0, 15.0, 13.0),
+            bin(0.5, 25.0, 5.0),
+            BallSummary {
+                inner_contact_angle: f64::NAN,
+                ..bin(0.0, 0.0, 0.0)
+            },
+        ];
+        let [ai, ao] = loaded_contact_angles(&zone, 0.0);
+        // (90 * 15 + 0.5 * 25) / 90.5 deg and (92.5 * 13 + 3 * 5 + 2.5 * 0) / 98 deg
+        assert!((ai.to_degrees() - (90.0 * 15.0 + 0.5 * 25.0) / 90.5).abs() < 1e-12);
+        assert!((ao.to_degrees() - (92.5 * 13.0 + 3.0 * 5.0) / 98.0).abs() < 1e-12);
+        assert_eq!(loaded_contact_angles(&[], 0.26), [0.26, 0.26]);
     }
 }

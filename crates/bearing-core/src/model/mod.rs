@@ -165,7 +165,11 @@ impl Model {
         );
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
         // the curve's coefficients; unused when each race carries a film law
-        let (ta, tb, tc, td) = scene.lubricant.traction.abcd().unwrap_or((0.0, 0.0, 0.0, 0.0));
+        let (ta, tb, tc, td) = scene
+            .lubricant
+            .traction
+            .abcd()
+            .unwrap_or((0.0, 0.0, 0.0, 0.0));
         let contact = ContactParams {
             traction: TractionCurve {
                 a: ta,

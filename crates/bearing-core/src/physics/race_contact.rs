@@ -318,8 +318,8 @@ pub fn strip_traction(
             // which moves with the ball centre
             let r_b = rb * u;
             let v_ball = ball.omega.cross(&r_b);
-            let v_ring = ring.velocity + ring.spin * ring_axis.cross(&(ball_to_ring + r_b))
-                - ball.velocity;
+            let v_ring =
+                ring.velocity + ring.spin * ring_axis.cross(&(ball_to_ring + r_b)) - ball.velocity;
             let um = tangential(0.5 * (v_ball + v_ring)).norm();
             film.at(q, um)
         }
@@ -364,10 +364,7 @@ struct StripSums<'a> {
 impl StripSums<'_> {
     /// Sum of the strip tractions on the ball and their first moments in h and y (eqs. 9-16).
     #[inline(always)]
-    fn sum(
-        &self,
-        mu_over_s: impl Fn(f64) -> f64,
-    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    fn sum(&self, mu_over_s: impl Fn(f64) -> f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
         let [c0, c1, c2] = self.c;
         let mut f_tr = Vector3::zeros();
         let mut f_h = Vector3::zeros();

@@ -241,7 +241,11 @@ mod tests {
         let g = 1.5e-8 * ep;
         let w = q / (ep * rx * rx);
         let k = hz.a_coef / hz.b_coef;
-        let h = rx * 2.69 * u.powf(0.67) * g.powf(0.53) * w.powf(-0.067)
+        let h = rx
+            * 2.69
+            * u.powf(0.67)
+            * g.powf(0.53)
+            * w.powf(-0.067)
             * (1.0 - 0.61 * (-0.73 * k).exp());
         assert!((f.film_thickness(q, um) / h - 1.0).abs() < 1e-12);
         // a film of a few tenths of a micrometre, as EHL ball contacts run
@@ -262,9 +266,14 @@ mod tests {
         assert!((mu(s) / (0.07 * (mu_e / 0.07).tanh()) - 1.0).abs() < 1e-12);
         assert!(mu(s) < 0.07 && mu(s) > 0.01, "{}", mu(s));
         // above the Eyring stress mu grows only logarithmically, and never past Lambda
-        assert!(mu(1.0) < mu(1e3) && mu(1e3) < 0.07, "{} {}", mu(1.0), mu(1e3));
-        // mu / s continuous where the series switch in
-        for z_switch in [1e-4 / (slope * p / 5e6)] {
+        assert!(
+            mu(1.0) < mu(1e3) && mu(1e3) < 0.07,
+            "{} {}",
+            mu(1.0),
+            mu(1e3)
+        );
+        // mu / s continuous where the Eyring and the tanh series switch in
+        for z_switch in [1e-4 / (slope * p / 5e6), 1e-4 * 0.07 / slope] {
             let below = law.mu_over_s(z_switch * (1.0 - 1e-9));
             let above = law.mu_over_s(z_switch * (1.0 + 1e-9));
             assert!((below / above - 1.0).abs() < 1e-9);

@@ -186,14 +186,23 @@ pub fn paper_trends(lubricant: &LubricantVariant, duration: f64) -> Vec<StudyPoi
             lubricant: lubricant.clone(),
             duration,
         };
-        points.extend(TREND_SPEEDS.iter().map(|&n| point(Factor::Speed, n, 100.0, 300.0)));
+        points.extend(
+            TREND_SPEEDS
+                .iter()
+                .map(|&n| point(Factor::Speed, n, 100.0, 300.0)),
+        );
         points.extend(
             TREND_AXIAL_LOADS
                 .iter()
                 .map(|&fa| point(Factor::AxialLoad, 10_000.0, fa, 300.0)),
         );
         points.extend(TREND_RADIAL_LOADS.iter().map(|&fr| {
-            point(Factor::RadialLoad, 10_000.0, TREND_RADIAL_LINE_AXIAL_LOAD, fr)
+            point(
+                Factor::RadialLoad,
+                10_000.0,
+                TREND_RADIAL_LINE_AXIAL_LOAD,
+                fr,
+            )
         }));
     }
     points
@@ -232,7 +241,10 @@ mod tests {
         let p = paper_trends(&LubricantVariant::paper(), 0.05);
         assert_eq!(p.len(), 2 * 17);
         for point in &p {
-            point.scene().validated().expect("every design point is a valid scene");
+            point
+                .scene()
+                .validated()
+                .expect("every design point is a valid scene");
         }
         let outer_speed: Vec<f64> = p
             .iter()

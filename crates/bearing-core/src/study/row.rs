@@ -7,10 +7,10 @@ use crate::scene::{FaultCase, ValidationErrors};
 use crate::signal::analysis::{AnalysisError, AnalysisOptions};
 use crate::signal::identify::Identification;
 use crate::simulation::{simulate, RunControl, SimError};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
 use crate::simulation_analysis::{analyze_simulation, frequency_comparison};
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
 
 /// The accelerometer channel the paper analyses (pedestal Z acceleration, m/s^2).
 pub const STUDY_CHANNEL: &str = "outer_ring_accel_z";
@@ -78,7 +78,9 @@ pub enum PointError {
     #[error("analysis: {0}")]
     Analysis(#[from] AnalysisError),
     /// Stopped at the wall-time budget.
-    #[error("over the {budget:.0} s wall-time budget at t = {reached:.4} of {duration} s simulated")]
+    #[error(
+        "over the {budget:.0} s wall-time budget at t = {reached:.4} of {duration} s simulated"
+    )]
     OverBudget {
         /// s of wall time.
         budget: f64,
