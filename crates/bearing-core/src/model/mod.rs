@@ -10,7 +10,7 @@ use crate::physics::drag::{BallDrag, CavityMedium};
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race, Strips};
 use crate::physics::rolling_resistance::RollingResistance;
-use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve};
+use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve, TractionLaw};
 use crate::scene::{
     CageGuidance, CavityDrag, HertzModel, Ring, RollingResistanceModel, TiltMode, Traction,
     ValidScene,
@@ -99,21 +99,22 @@ impl Model {
             let rx = 0.5 * d * (1.0 + sign * gamma);
             let ry = f * d / (2.0 * f - 1.0);
             let path = 0.5 * dm + sign * rb * alpha0.cos();
+            let hz = hertz(rx, ry, ep_race);
             Race {
                 inner: ring == Ring::Inner,
                 centre_radius: 0.5 * groove_diameter - sign * f * d,
                 centre_axial,
                 free_distance: (f - 0.5) * d,
-                hertz: hertz(rx, ry, ep_race),
-                film_traction: match lub.traction {
+                hertz: hz,
+                traction: match lub.traction {
                     Traction::Film {
                         shear_modulus,
                         eyring_stress,
                         limiting_coefficient,
-                    } => Some(FilmTraction::new(
+                    } => TractionLaw::Film(FilmTraction::new(
                         ep_race,
                         rx,
-                        &hertz(rx, ry, ep_race),
+                        &hz,
                         &FilmRheology {
                             eta0: lub.dynamic_viscosity,
                             alpha: lub.pressure_viscosity,
@@ -122,7 +123,10 @@ impl Model {
                             limiting: limiting_coefficient,
                         },
                     )),
-                    _ => None,
+                    Traction::Abcd { .. } | Traction::Adore { .. } => {
+                        let (a, b, c, d) = lub.traction.abcd().expect("a curve");
+                        TractionLaw::Curve(TractionCurve { a, b, c, d })
+                    }
                 },
                 rolling: match lub.rolling_resistance {
                     RollingResistanceModel::None => None,
@@ -164,19 +168,7 @@ impl Model {
             0.0,
         );
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
-        // the curve's coefficients; unused when each race carries a film law
-        let (ta, tb, tc, td) = scene
-            .lubricant
-            .traction
-            .abcd()
-            .unwrap_or((0.0, 0.0, 0.0, 0.0));
         let contact = ContactParams {
-            traction: TractionCurve {
-                a: ta,
-                b: tb,
-                c: tc,
-                d: td,
-            },
             strips: Strips::new(scene.solver.traction_strips),
             damping_ratio: scene.lubricant.contact_damping_ratio,
             ball_mass,

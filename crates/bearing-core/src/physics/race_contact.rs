@@ -4,7 +4,7 @@
 use super::defect::{race_defects_effect, RaceDefect};
 use super::hertz::HertzContact;
 use super::rolling_resistance::RollingResistance;
-use super::traction::{film_mu_over_s, ContactTraction, FilmTraction, TractionCurve};
+use super::traction::{film_mu_over_s, ContactTraction, TractionLaw};
 use nalgebra::{Matrix3, Vector3};
 
 /// Constant data of one raceway.
@@ -30,10 +30,9 @@ pub struct Race {
     pub rx: f64,
     /// Defects on this race, in its body frame.
     pub defects: Vec<RaceDefect>,
+    /// EHL traction law of this ball-race pair (eqs. 14-15 or the film law).
+    pub traction: TractionLaw,
     /// EHL rolling resistance of this ball-race pair; None to leave it out.
-    /// The elastic-plastic film traction law of this pair; `None` uses the contact
-    /// parameters' curve.
-    pub film_traction: Option<FilmTraction>,
     pub rolling: Option<RollingResistance>,
 }
 
@@ -102,7 +101,6 @@ impl Strips {
 /// Contact parameters shared by all race contacts.
 #[derive(Debug, Clone)]
 pub struct ContactParams {
-    pub traction: TractionCurve,
     pub strips: Strips,
     /// Normal contact damping ratio, -.
     pub damping_ratio: f64,
@@ -225,57 +223,62 @@ pub fn race_contact(
     };
     let normal_force_on_ball = -q * cp * u + q * sp * t;
 
-    let (f_tr, m_ball, m_ring_strips) = strip_traction(race, ring, ball, p, q, &u, &t);
+    let r_contact = ball.centre - ring.centre + race.ball_radius * u;
+    // entrainment velocity, only when the film law or the rolling resistance reads it
+    let um = if race.traction.needs_entrainment() || race.rolling.is_some() {
+        entrainment_velocity(ring, ball, &u, race.ball_radius, &r_contact)
+    } else {
+        Vector3::zeros()
+    };
+    let (f_tr, m_ball, m_ring_strips) = strip_traction(race, ring, ball, p, q, um.norm(), &u, &t);
     // eq. 18
     let f_ball = normal_force_on_ball + f_tr;
-    let r_contact = ball.centre - ring.centre + race.ball_radius * u;
     out.force_on_ball = f_ball;
     out.moment_on_ball = m_ball;
     out.force_on_ring = -f_ball;
     out.moment_on_ring = m_ring_strips + r_contact.cross(&(-normal_force_on_ball));
     if let Some(rr) = &race.rolling {
-        rolling_resistance(
-            rr,
-            ring,
-            ball,
-            q,
-            &u,
-            race.ball_radius,
-            &r_contact,
-            &mut out,
-        );
+        rolling_resistance(rr, q, &um, race.ball_radius * u, &r_contact, &mut out);
     }
     out
 }
 
-/// Add the EHL rolling resistance of a contact carrying `q` (N) to its forces.
+/// Entrainment velocity of a contact: the mean of the two surfaces' velocities at the
+/// contact point relative to the ball centre (which the contact moves with), in the
+/// tangent plane, m/s. `r_contact` is the contact point from the ring centre.
+#[inline]
+fn entrainment_velocity(
+    ring: &RingMotion,
+    ball: &BallMotion,
+    u: &Vector3<f64>,
+    ball_radius: f64,
+    r_contact: &Vector3<f64>,
+) -> Vector3<f64> {
+    let ring_axis = ring.rot * Vector3::x();
+    let v_ball = ball.omega.cross(&(ball_radius * u));
+    let v_ring = ring.velocity + ring.spin * ring_axis.cross(r_contact) - ball.velocity;
+    let um = 0.5 * (v_ball + v_ring);
+    um - um.dot(u) * u
+}
+
+/// Add the EHL rolling resistance of a contact carrying `q` (N) with entrainment velocity
+/// `um` (m/s) to its forces; `r_b` is the contact point from the ball centre (m).
 ///
 /// Bălan et al. (2015): the film's shear brakes each surface with `F_R` at the contact,
 /// against its motion relative to the contact, and the film pressure pushes the ball's
 /// centre with `2 F_R` the other way. On the ball that is a net force `F_R` along the
 /// entrainment velocity (backwards for a rolling ball) and the moment of the shear about
 /// its centre; the ring takes the opposite net force at the contact, so momentum is kept.
-#[allow(clippy::too_many_arguments)]
 #[inline]
 fn rolling_resistance(
     rr: &RollingResistance,
-    ring: &RingMotion,
-    ball: &BallMotion,
     q: f64,
-    u: &Vector3<f64>,
-    ball_radius: f64,
+    um: &Vector3<f64>,
+    r_b: Vector3<f64>,
     r_contact: &Vector3<f64>,
     out: &mut ContactResult,
 ) {
-    // surface velocities at the contact point relative to the ball centre, which the
-    // contact moves with
-    let r_b = ball_radius * u;
-    let ring_axis = ring.rot * Vector3::x();
-    let v_ball = ball.omega.cross(&r_b);
-    let v_ring = ring.velocity + ring.spin * ring_axis.cross(r_contact) - ball.velocity;
-    let mut um = 0.5 * (v_ball + v_ring);
-    um -= um.dot(u) * u;
-    let f = rr.force_along(q, &um);
+    let f = rr.force_along(q, um);
     out.force_on_ball += f;
     out.moment_on_ball -= r_b.cross(&f);
     out.force_on_ring -= f;
@@ -283,17 +286,21 @@ fn rolling_resistance(
 }
 
 /// EHL traction of one contact carrying `q` (N) with unit normal `u` and rolling direction
-/// `t`, by strips across the ellipse's major axis (eqs. 9-16): the force on the ball (N),
-/// its moment about the ball centre and the reaction's moment about the ring centre (N m).
+/// `t` and entrainment speed `um` (m/s, read by the film law only), by strips across the
+/// ellipse's major axis (eqs. 9-16): the force on the ball (N), its moment about the ball
+/// centre and the reaction's moment about the ring centre (N m).
+#[allow(clippy::too_many_arguments)]
 pub fn strip_traction(
     race: &Race,
     ring: &RingMotion,
     ball: &BallMotion,
     p: &ContactParams,
     q: f64,
+    um: f64,
     u: &Vector3<f64>,
     t: &Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    let law = race.traction.at(q, um);
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
     let a = race.hertz.a_coef * q.cbrt();
@@ -311,19 +318,6 @@ pub fn strip_traction(
     let c0 = tangential(ring.velocity + ring.spin * ring_axis.cross(&ball_to_ring) - ball.velocity);
     let c1 = tangential(ring.spin * ring_axis.cross(u) - ball.omega.cross(u));
     let c2 = tangential(ring.spin * ring_axis.cross(&s_hat) - ball.omega.cross(&s_hat));
-    let law = match &race.film_traction {
-        None => ContactTraction::Curve(p.traction),
-        Some(film) => {
-            // entrainment: the mean of the two surfaces' speeds relative to the contact,
-            // which moves with the ball centre
-            let r_b = rb * u;
-            let v_ball = ball.omega.cross(&r_b);
-            let v_ring =
-                ring.velocity + ring.spin * ring_axis.cross(&(ball_to_ring + r_b)) - ball.velocity;
-            let um = tangential(0.5 * (v_ball + v_ring)).norm();
-            film.at(q, um)
-        }
-    };
     // Sum the tractions and their first moments in h and y: the moments of all strips about
     // the ball centre are then `u x sum(h tr) + s_hat x sum(y tr)`. One loop per law
     // (monomorphised), so the strips do not branch on it.
@@ -387,6 +381,7 @@ impl StripSums<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::traction::TractionCurve;
 
     /// The strip loop as it was written before it was factored: every strip's slip from its
     /// own cross products and projection (kept to check the factored one).
@@ -395,6 +390,7 @@ mod tests {
         ring: &RingMotion,
         ball: &BallMotion,
         p: &ContactParams,
+        law: &ContactTraction,
         q: f64,
         u: &Vector3<f64>,
         t: &Vector3<f64>,
@@ -426,7 +422,7 @@ mod tests {
             let v_ring = ring.velocity + ring.spin * ring_axis.cross(&r_pr);
             let mut v = v_ring - v_ball;
             v -= v.dot(u) * u;
-            let tr = (q * w * p.traction.mu_over_s(v.norm())) * v;
+            let tr = (q * w * law.mu_over_s(v.norm())) * v;
             f_tr += tr;
             m_ball += r_pb.cross(&tr);
             m_ring -= r_pr.cross(&tr);
@@ -454,8 +450,14 @@ mod tests {
             path_radius: 0.5 * 41.562e-3,
             rx: 0.5 * D,
             defects: vec![],
+            // constant mu = 0.05 above 1 mm/s
+            traction: TractionLaw::Curve(TractionCurve {
+                a: 0.0,
+                b: 0.0,
+                c: 0.0,
+                d: 0.05,
+            }),
             rolling: None,
-            film_traction: None,
         }
     }
 
@@ -471,13 +473,6 @@ mod tests {
 
     fn params() -> ContactParams {
         ContactParams {
-            // constant mu = 0.05 above 1 mm/s
-            traction: TractionCurve {
-                a: 0.0,
-                b: 0.0,
-                c: 0.0,
-                d: 0.05,
-            },
             strips: Strips::new(10),
             damping_ratio: 0.05,
             ball_mass: 0.7e-3,
@@ -526,8 +521,9 @@ mod tests {
             let u = Vector3::new(alpha.sin(), 0.1 * f.sin(), alpha.cos()).normalize();
             let t = u.cross(&Vector3::new(0.3, 1.0, -0.2)).normalize();
             let q = 20.0 * f;
-            let new = strip_traction(&race, &ring, &ball, &p, q, &u, &t);
-            let old = reference_strip_traction(&race, &ring, &ball, &p, q, &u, &t);
+            let law = race.traction.at(q, 0.0);
+            let new = strip_traction(&race, &ring, &ball, &p, q, 0.0, &u, &t);
+            let old = reference_strip_traction(&race, &ring, &ball, &p, &law, q, &u, &t);
             let ms = q * race.ball_radius;
             for (name, a, b, scale) in [
                 ("force", new.0, old.0, q),

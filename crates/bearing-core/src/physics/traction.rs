@@ -147,6 +147,33 @@ impl FilmTraction {
     }
 }
 
+/// The traction law of one ball-race pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TractionLaw {
+    /// A curve of the slip speed alone (eq. 15), the same at every load and speed.
+    Curve(TractionCurve),
+    /// The film law, which depends on the contact's load and entrainment speed.
+    Film(FilmTraction),
+}
+
+impl TractionLaw {
+    /// Whether evaluating the law needs the contact's entrainment speed.
+    #[inline]
+    pub fn needs_entrainment(&self) -> bool {
+        matches!(self, TractionLaw::Film(_))
+    }
+
+    /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s; read by the film law
+    /// only).
+    #[inline]
+    pub fn at(&self, q: f64, um: f64) -> ContactTraction {
+        match self {
+            TractionLaw::Curve(c) => ContactTraction::Curve(*c),
+            TractionLaw::Film(f) => f.at(q, um),
+        }
+    }
+}
+
 /// A traction law evaluated for one contact: the coefficient's `mu(s) / s` per strip.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactTraction {
