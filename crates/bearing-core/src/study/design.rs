@@ -170,6 +170,20 @@ pub const TREND_RADIAL_LOADS: [f64; 6] = [100.0, 200.0, 300.0, 400.0, 500.0, 600
 /// 18 deg), and every ball is loaded, so the cage runs quiet (measured e = 0.04).
 pub const TREND_RADIAL_LINE_AXIAL_LOAD: f64 = 400.0;
 
+/// Table 2 of the paper: the nine groups of its three-factor orthogonal design of compound
+/// defects, each `[inner diameter, inner depth, outer diameter, outer depth]`, m.
+pub const TABLE2_GROUPS: [[f64; 4]; 9] = [
+    [0.1e-3, 0.05e-3, 0.1e-3, 0.05e-3],
+    [0.1e-3, 0.10e-3, 0.2e-3, 0.10e-3],
+    [0.1e-3, 0.15e-3, 0.3e-3, 0.15e-3],
+    [0.2e-3, 0.05e-3, 0.3e-3, 0.10e-3],
+    [0.2e-3, 0.10e-3, 0.1e-3, 0.15e-3],
+    [0.2e-3, 0.15e-3, 0.2e-3, 0.05e-3],
+    [0.3e-3, 0.05e-3, 0.2e-3, 0.15e-3],
+    [0.3e-3, 0.10e-3, 0.3e-3, 0.05e-3],
+    [0.3e-3, 0.15e-3, 0.1e-3, 0.10e-3],
+];
+
 /// Figures 23-28: every factor's line for single inner and single outer faults, with one
 /// lubricant variant. Points shared by two lines (10000 rpm / 100 N / 300 N and
 /// 10000 rpm / 400 N / 300 N) appear under each factor; a runner may run identical scenes

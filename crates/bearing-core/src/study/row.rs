@@ -2,10 +2,10 @@
 //! frequency identified in the envelope spectra of the accelerometer signal, against eq. 37.
 
 use super::design::{Factor, StudyPoint};
+use super::reading::{read_line, FaultLine};
 use crate::dynamics::CageState;
 use crate::scene::{FaultCase, ValidationErrors};
 use crate::signal::analysis::{AnalysisError, AnalysisOptions};
-use crate::signal::identify::Identification;
 use crate::simulation::{simulate, RunControl, SimError};
 use crate::simulation_analysis::{analyze_simulation, frequency_comparison};
 use serde::{Deserialize, Serialize};
@@ -91,10 +91,6 @@ pub enum PointError {
     },
 }
 
-fn fundamental<'a>(ids: &'a [Identification], line: &str) -> Option<&'a Identification> {
-    ids.iter().find(|i| i.name == line && i.harmonic == 1)
-}
-
 /// Simulate the point and identify its fault line in the raw and the best-component
 /// envelope spectra (default analysis options: 5 levels, 5 % search band). A run still going
 /// after `budget` of wall time is stopped and reported as over budget (a cage whirling on
@@ -134,30 +130,12 @@ pub fn run_point(point: &StudyPoint, budget: Option<Duration>) -> Result<StudyRo
         &AnalysisOptions::default(),
     )?;
     let freq = frequency_comparison(&result, scene.scene());
-    let (line, theory_hz, loaded_theory_hz, cage_hz) = match point.fault {
-        FaultCase::Inner => (
-            "BPFI",
-            freq.nominal.bpfi,
-            freq.loaded.bpfi,
-            freq.simulated.bpfi,
-        ),
-        _ => (
-            "BPFO",
-            freq.nominal.bpfo,
-            freq.loaded.bpfo,
-            freq.simulated.bpfo,
-        ),
+    let line = match point.fault {
+        FaultCase::Inner => FaultLine::Bpfi,
+        _ => FaultLine::Bpfo,
     };
-    let pct = |x: f64| 100.0 * (x - theory_hz) / theory_hz;
-    let r = &out.report;
-    let raw = fundamental(&r.raw, line);
-    let best = fundamental(&r.best_component.identifications, line);
-    let get = |i: Option<&Identification>| {
-        i.map(|i| (i.identified_hz, i.prominence_db, i.detected))
-            .unwrap_or((f64::NAN, f64::NAN, false))
-    };
-    let (raw_hz, raw_prom, raw_det) = get(raw);
-    let (best_hz, best_prom, best_det) = get(best);
+    let reading = read_line(line, &freq, &out.report);
+    let (raw, best) = (reading.raw, reading.best);
     let s = &result.summary;
     Ok(StudyRow {
         factor: point.factor,
@@ -167,21 +145,21 @@ pub fn run_point(point: &StudyPoint, budget: Option<Duration>) -> Result<StudyRo
         rpm: point.rpm,
         axial_load: point.axial_load,
         radial_load: point.radial_load,
-        line: line.into(),
-        theory_hz,
-        loaded_theory_hz,
-        cage_hz,
-        cage_error_pct: pct(cage_hz),
-        raw_hz,
-        raw_error_pct: pct(raw_hz),
-        raw_prominence_db: raw_prom,
-        raw_detected: raw_det,
-        best_level: r.best_component.level,
-        best_hz,
-        best_error_pct: pct(best_hz),
-        best_prominence_db: best_prom,
-        best_detected: best_det,
-        df_hz: r.df,
+        line: line.name().into(),
+        theory_hz: reading.theory_hz,
+        loaded_theory_hz: reading.loaded_theory_hz,
+        cage_hz: reading.cage_hz,
+        cage_error_pct: reading.cage_error_pct,
+        raw_hz: raw.hz,
+        raw_error_pct: raw.error_pct,
+        raw_prominence_db: raw.prominence_db,
+        raw_detected: raw.detected,
+        best_level: reading.best_level,
+        best_hz: best.hz,
+        best_error_pct: best.error_pct,
+        best_prominence_db: best.prominence_db,
+        best_detected: best.detected,
+        df_hz: out.report.df,
         cage_slip: s.cage_slip,
         cage_state: s.cage_motion.state,
         cage_eccentricity: s.cage_motion.mean_eccentricity,
