@@ -46,6 +46,12 @@ pub struct Metrics {
     jobs: Mutex<BTreeMap<(String, String), Histogram>>,
     running: AtomicI64,
     running_max: AtomicI64,
+    /// Studies accepted, their points, the jobs queued for them and the points that shared
+    /// a job.
+    studies: AtomicI64,
+    study_points: AtomicI64,
+    study_jobs_queued: AtomicI64,
+    study_points_shared: AtomicI64,
 }
 
 /// Decrements the running gauge when a job ends, whatever the path out.
@@ -77,6 +83,16 @@ impl Metrics {
         let now = self.running.fetch_add(1, Ordering::SeqCst) + 1;
         self.running_max.fetch_max(now, Ordering::SeqCst);
         RunningGuard(self)
+    }
+
+    /// Count an accepted study.
+    pub fn study_created(&self, points: usize, queued: usize, shared: usize) {
+        self.studies.fetch_add(1, Ordering::SeqCst);
+        self.study_points.fetch_add(points as i64, Ordering::SeqCst);
+        self.study_jobs_queued
+            .fetch_add(queued as i64, Ordering::SeqCst);
+        self.study_points_shared
+            .fetch_add(shared as i64, Ordering::SeqCst);
     }
 
     pub fn running(&self) -> i64 {
@@ -125,6 +141,32 @@ impl Metrics {
             self.running_max.load(Ordering::SeqCst)
         );
 
+        for (name, help, v) in [
+            (
+                "bearing_sim_studies_created_total",
+                "Studies accepted by this process.",
+                &self.studies,
+            ),
+            (
+                "bearing_sim_study_points_total",
+                "Points of the studies accepted.",
+                &self.study_points,
+            ),
+            (
+                "bearing_sim_study_jobs_queued_total",
+                "Simulation jobs queued for study points.",
+                &self.study_jobs_queued,
+            ),
+            (
+                "bearing_sim_study_points_shared_total",
+                "Study points that shared the job of an identical scene.",
+                &self.study_points_shared,
+            ),
+        ] {
+            let _ = writeln!(out, "# HELP {name} {help}");
+            let _ = writeln!(out, "# TYPE {name} counter");
+            let _ = writeln!(out, "{name} {}", v.load(Ordering::SeqCst));
+        }
         let _ = writeln!(
             out,
             "# HELP bearing_sim_job_duration_seconds Run time of jobs by kind and final state."

@@ -66,11 +66,14 @@ const LAYERS: &[Layers] = &[
     Layers {
         krate: "service",
         ranks: &[
+            ("json_doc", 9),
             ("store", 10),
             ("metrics", 11),
             // Plots draw engine types to SVG; the CLI and (later) the API use them.
             ("plots", 11),
             ("config", 12),
+            // Study designs, tables and plots: the API queues their points, the CLI runs them.
+            ("studies", 12),
             ("jobs", 13),
             ("api", 14),
             ("serve", 15),

@@ -40,3 +40,50 @@ async fn sigkill_mid_run_then_restart_completes_the_job() {
     let (_, _, page) = get_json(&c, &s.url("/v1/simulations")).await;
     assert_eq!(page["items"].as_array().unwrap().len(), 2, "{page}");
 }
+
+#[tokio::test]
+async fn a_study_survives_sigkill_and_completes_after_restart() {
+    let (_dir, db) = temp_db();
+    let args = ["--workers", "1", "--lease-secs", "1"];
+    let mut s = Server::start(&db, &args);
+    let c = client();
+    let study = serde_json::json!({
+        "base": {"preset": "h7005c", "fault_case": "inner", "overrides": {"solver": {"duration": 0.05}}},
+        "design": {"type": "grid", "factors": [{"pointer": "/operating/radial_load", "values": [200.0, 300.0]}]}
+    });
+    let (status, _, st) = post_json(&c, &s.url("/v1/studies"), &study).await;
+    assert_eq!(status, 202, "{st}");
+    let id = st["id"].as_str().unwrap().to_string();
+    let first_job = st["points"][0]["job_id"].as_str().unwrap().to_string();
+    wait_until(&c, &s, &first_job, Duration::from_secs(60), |j| {
+        j["state"] == "running" && j["progress"].as_f64().unwrap_or(0.0) > 0.0
+    })
+    .await;
+    s.kill();
+
+    let s = Server::start(&db, &args);
+    let start = std::time::Instant::now();
+    let done = loop {
+        let (status, _, st) = get_json(&c, &s.url(&format!("/v1/studies/{id}"))).await;
+        assert_eq!(status, 200, "{st}");
+        if st["state"] != "running" && st["state"] != "queued" {
+            break st;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(300),
+            "{st}\n{}",
+            s.log()
+        );
+        tokio::time::sleep(Duration::from_millis(200)).await;
+    };
+    assert_eq!(done["state"], "succeeded", "{done}\n{}", s.log());
+    assert_eq!(done["progress"]["points_succeeded"], 2);
+    let (_, _, job) = get_json(&c, &s.url(&format!("/v1/simulations/{first_job}"))).await;
+    assert_eq!(
+        job["attempt"], 2,
+        "claimed before the crash and after: {job}"
+    );
+    let (status, _, table) = get_json(&c, &s.url(&format!("/v1/studies/{id}/table"))).await;
+    assert_eq!(status, 200);
+    assert_eq!(table["rows"].as_array().unwrap().len(), 2);
+}

@@ -12,7 +12,7 @@ use axum::Json;
 use std::time::{Duration, Instant};
 
 /// Longest long poll (`wait`), s.
-const MAX_WAIT: f64 = 60.0;
+pub const MAX_WAIT: f64 = 60.0;
 
 /// A job of the expected kind, or 404 (ids of the other kind are not visible here).
 pub async fn load(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
@@ -39,14 +39,6 @@ pub fn job_response(status: StatusCode, job: &Job) -> Response {
     res
 }
 
-fn not_modified(job: &Job) -> Response {
-    let mut res = StatusCode::NOT_MODIFIED.into_response();
-    if let Ok(v) = HeaderValue::from_str(&etag(job)) {
-        res.headers_mut().insert(header::ETAG, v);
-    }
-    res
-}
-
 pub async fn get_job(
     state: AppState,
     kind: JobKind,
@@ -54,7 +46,32 @@ pub async fn get_job(
     headers: HeaderMap,
     q: Option<String>,
 ) -> ApiResult<Response> {
-    let q = QueryParams::parse(q.as_deref())?;
+    long_poll(
+        &headers,
+        q.as_deref(),
+        || load(&state, kind, &id),
+        |job| etag(job),
+        |job| job.state.is_finished(),
+        |job| Ok(job_response(StatusCode::OK, job)),
+    )
+    .await
+}
+
+/// `GET` with `If-None-Match` and `wait` (s): answer at once when the resource changed
+/// since the tag given; otherwise hold the unchanged answer until it changes, it finishes,
+/// or `wait` passes, then 304. `*` names no version to wait past: answered at once.
+pub async fn long_poll<T, Fut>(
+    headers: &HeaderMap,
+    q: Option<&str>,
+    mut load: impl FnMut() -> Fut,
+    tag: impl Fn(&T) -> String,
+    finished: impl Fn(&T) -> bool,
+    respond: impl Fn(&T) -> ApiResult<Response>,
+) -> ApiResult<Response>
+where
+    Fut: std::future::Future<Output = ApiResult<T>>,
+{
+    let q = QueryParams::parse(q)?;
     let wait = q.f64("wait")?.unwrap_or(0.0);
     if !(0.0..=MAX_WAIT).contains(&wait) {
         return Err(Problem::bad_request(format!(
@@ -67,16 +84,18 @@ pub async fn get_job(
         .map(str::to_string);
     let deadline = Instant::now() + Duration::from_secs_f64(wait);
     loop {
-        let job = load(&state, kind, &id).await?;
-        let unchanged = inm.as_deref().is_some_and(|t| etag_matches(t, &etag(&job)));
-        if !unchanged {
-            return Ok(job_response(StatusCode::OK, &job));
+        let item = load().await?;
+        let current = tag(&item);
+        if !inm.as_deref().is_some_and(|t| etag_matches(t, &current)) {
+            return respond(&item);
         }
-        // Long poll: with `wait`, hold an unchanged answer until the job changes. `*` names
-        // no version to wait past, so it is answered at once.
         let wildcard = inm.as_deref().is_some_and(|t| t.trim() == "*");
-        if wildcard || job.state.is_finished() || Instant::now() >= deadline {
-            return Ok(not_modified(&job));
+        if wildcard || finished(&item) || Instant::now() >= deadline {
+            let mut res = StatusCode::NOT_MODIFIED.into_response();
+            if let Ok(v) = HeaderValue::from_str(&current) {
+                res.headers_mut().insert(header::ETAG, v);
+            }
+            return Ok(res);
         }
         tokio::time::sleep(Duration::from_millis(200)).await;
     }

@@ -201,6 +201,10 @@ impl From<StoreError> for Problem {
     fn from(e: StoreError) -> Problem {
         match e {
             StoreError::NotFound(id) => Problem::not_found(format!("no job with id {id}")),
+            StoreError::StudyNotFound(id) => Problem::not_found(format!("no study with id {id}")),
+            StoreError::StudyConflict { id, message } => {
+                Problem::conflict(format!("study {id}: {message}"), None)
+            }
             StoreError::Conflict { id, state, message } => Problem::conflict(
                 format!("job {id} is {state}: {message}"),
                 Some(state.as_str()),

@@ -58,7 +58,7 @@ pub async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Res
 }
 
 /// A job's stored record as its type; a record that does not parse is a server fault.
-fn record<T: DeserializeOwned>(job: &Job) -> ApiResult<T> {
+pub(super) fn record<T: DeserializeOwned>(job: &Job) -> ApiResult<T> {
     let value = job
         .result
         .clone()
@@ -72,7 +72,7 @@ fn record<T: DeserializeOwned>(job: &Job) -> ApiResult<T> {
 }
 
 /// The analysis stored with a succeeded job, or 409 saying why there is none.
-fn stored_analysis(job: &Job) -> ApiResult<AnalysisRecord> {
+pub(super) fn stored_analysis(job: &Job) -> ApiResult<AnalysisRecord> {
     match job.kind {
         JobKind::Analysis => Ok(record::<AnalysisJobRecord>(job)?.analysis),
         JobKind::Simulation => {

@@ -2,7 +2,7 @@
 //! generated OpenAPI document has exactly these paths and methods.
 
 use super::state::AppState;
-use super::{analyses, ops, presets, quasi_static, simulations};
+use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
 use axum::handler::Handler;
 use axum::routing::{on, MethodFilter, MethodRouter};
 
@@ -48,6 +48,21 @@ pub fn table() -> Vec<RouteDef> {
         r("get", "/v1/simulations/{id}/result", simulations::result),
         r("get", "/v1/simulations/{id}/signals", simulations::signals),
         r("get", "/v1/simulations/{id}/spectra", simulations::spectra),
+        r(
+            "get",
+            "/v1/simulations/{id}/plots/{name}",
+            simulation_plots::plot,
+        ),
+        r("post", "/v1/studies", studies::submit),
+        r("get", "/v1/studies", studies::list),
+        RouteDef {
+            long_poll: true,
+            ..r("get", "/v1/studies/{id}", studies::get)
+        },
+        r("delete", "/v1/studies/{id}", studies::delete),
+        r("post", "/v1/studies/{id}/cancel", studies::cancel),
+        r("get", "/v1/studies/{id}/table", studies::table),
+        r("get", "/v1/studies/{id}/plots/{name}", studies::plot),
         r("post", "/v1/analyses", analyses::submit),
         r("get", "/v1/analyses", analyses::list),
         RouteDef {

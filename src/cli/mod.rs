@@ -10,6 +10,7 @@ pub mod scene_arg;
 pub mod scene_cmd;
 pub mod serve_cmd;
 pub mod study;
+mod study_plan;
 
 pub use command::Cli;
 pub use result::CliResult;

@@ -3,10 +3,15 @@
 //!
 //! Designs: `paper-trends` (Figures 23-28: speed, axial and radial load for single inner
 //! and outer faults) and `sensitivity` (each trend's end points under every lubricant
-//! variant). Identical scenes are run once.
+//! variant) on the H7005C scene with the lubricant variants of `docs/paper-trends.md`;
+//! `table2` (the paper's nine compound-fault sizes) and `request` (any `POST /v1/studies`
+//! body), and `paper-trends` with `--base`, run as the service runs studies
+//! ([`super::study_plan`]). Identical scenes are run once.
 
 use super::result::CliResult;
+use super::study_plan::{named_request, read_request, run_request};
 use crate::plots::{trend_svg, TrendSeries};
+use crate::studies::NamedDesign;
 use bearing_core::scene::FaultCase;
 use bearing_core::study::{
     lubricant_variants, paper_trends, run_point, sensitivity, Factor, StudyPoint, StudyRow,
@@ -24,12 +29,17 @@ pub enum Design {
     PaperTrends,
     /// Each trend's end points (outer fault) under every lubricant variant.
     Sensitivity,
+    /// Table 2: the nine compound-fault sizes (on `--base`, default the H7005C preset).
+    Table2,
+    /// The study request in `--request FILE` (a `POST /v1/studies` body).
+    Request,
 }
 
 #[derive(clap::Args, Debug)]
 pub struct StudyArgs {
     pub design: Design,
-    /// Simulated time per point, s (constant speed; the first quarter, at most 0.1 s,
+    /// Simulated time per point for `paper-trends` and `sensitivity` without `--base`, s
+    /// (the other designs take the base scene's duration) (constant speed; the first quarter, at most 0.1 s,
     /// settles and is left out of the averages and spectra).
     #[arg(long, default_value_t = 0.3)]
     pub duration: f64,
@@ -47,12 +57,45 @@ pub struct StudyArgs {
     /// Points run at once (one thread each).
     #[arg(long, default_value_t = 2)]
     pub workers: usize,
+    /// Base scene for `table2` and `paper-trends`, as a JSON file: `{"preset": "h7005c",
+    /// "fault_case": ..., "overrides": {...}}` or `{"scene": {...}}`. With it,
+    /// `paper-trends` runs the service's design on that base (the lubricant is the base's).
+    #[arg(long)]
+    pub base: Option<std::path::PathBuf>,
+    /// Study request file for the `request` design.
+    #[arg(long)]
+    pub request: Option<std::path::PathBuf>,
     /// Output directory (created).
     #[arg(long)]
     pub out: std::path::PathBuf,
 }
 
 pub fn main(args: StudyArgs) -> CliResult {
+    if !(args.point_budget >= 0.0 && args.point_budget.is_finite()) {
+        return Err(format!(
+            "--point-budget {}: must be a finite number of seconds >= 0",
+            args.point_budget
+        )
+        .into());
+    }
+    let budget = (args.point_budget > 0.0).then(|| Duration::from_secs_f64(args.point_budget));
+    let request = match (args.design, &args.base) {
+        (Design::Table2, base) => Some(named_request(NamedDesign::Table2, base.as_deref())?),
+        (Design::PaperTrends, Some(base)) => {
+            Some(named_request(NamedDesign::PaperTrends, Some(base))?)
+        }
+        (Design::Request, _) => {
+            let path = args
+                .request
+                .as_deref()
+                .ok_or("the request design needs --request FILE")?;
+            Some(read_request(path)?)
+        }
+        _ => None,
+    };
+    if let Some(req) = request {
+        return run_request(&req, args.workers, budget, &args.out);
+    }
     let catalogue = lubricant_variants();
     let find = |name: &str| {
         catalogue
@@ -76,6 +119,7 @@ pub fn main(args: StudyArgs) -> CliResult {
     }
     let points = match args.design {
         Design::PaperTrends => paper_trends(&find(&args.lubricant)?, args.duration),
+        Design::Table2 | Design::Request => unreachable!("run as study requests above"),
         Design::Sensitivity => {
             let variants = if args.variants.is_empty() {
                 catalogue.clone()
@@ -89,14 +133,6 @@ pub fn main(args: StudyArgs) -> CliResult {
         }
     };
     std::fs::create_dir_all(&args.out).map_err(|e| format!("--out {}: {e}", args.out.display()))?;
-    if !(args.point_budget >= 0.0 && args.point_budget.is_finite()) {
-        return Err(format!(
-            "--point-budget {}: must be a finite number of seconds >= 0",
-            args.point_budget
-        )
-        .into());
-    }
-    let budget = (args.point_budget > 0.0).then(|| Duration::from_secs_f64(args.point_budget));
     let (rows, failed) = run_points(&points, args.workers.max(1), budget)?;
     write_table(&args.out, &rows)?;
     write_failures(&args.out, &failed)?;

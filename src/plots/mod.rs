@@ -1,7 +1,13 @@
 //! SVG charts of engine results, drawn with plotters' SVG backend (no hand-written paths).
 
 pub mod error;
+pub mod kurtosis;
+pub mod signal;
+pub mod spectrum;
 pub mod trend;
 
 pub use error::PlotError;
+pub use kurtosis::kurtosis_svg;
+pub use signal::{signal_svg, SignalTrace};
+pub use spectrum::{spectra_grid_svg, spectrum_svg, Marker, SpectrumPanel};
 pub use trend::{trend_svg, TrendSeries};

@@ -24,6 +24,11 @@ pub enum StoreError {
         state: JobState,
         message: String,
     },
+    #[error("no study with id {0}")]
+    StudyNotFound(String),
+    /// The study is in a state that does not allow the operation.
+    #[error("study {id}: {message}")]
+    StudyConflict { id: String, message: String },
     #[error("the queue is full ({0} jobs waiting)")]
     QueueFull(i64),
     /// Same Idempotency-Key, different request.
@@ -57,7 +62,8 @@ pub trait Store: Send + Sync + 'static {
     /// Finished: `Conflict`.
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError>;
 
-    /// Delete a finished job and its outputs; `Conflict` while queued or running.
+    /// Delete a finished job and its outputs; `Conflict` while queued or running, or while
+    /// a study holds it as a point.
     async fn delete_job(&self, id: &str) -> Result<(), StoreError>;
 
     /// Atomically take the oldest queued job under a lease held by `owner`.
@@ -84,4 +90,27 @@ pub trait Store: Send + Sync + 'static {
 
     /// Number of jobs per state, for metrics and admission.
     async fn counts(&self) -> Result<StateCounts, StoreError>;
+
+    /// Store a study and queue its points, all or nothing. A point whose scene key matches
+    /// a queued, running or succeeded simulation (not being cancelled) shares that job;
+    /// identical points within the study share one. `QueueFull` if the new jobs do not fit.
+    async fn create_study(
+        &self,
+        study: NewStudy,
+        max_queued: i64,
+    ) -> Result<StudyCreated, StoreError>;
+
+    /// The study with its points and their jobs.
+    async fn get_study(&self, id: &str) -> Result<Study, StoreError>;
+
+    /// Newest first; `before` is the cursor returned by the previous page.
+    async fn list_studies(&self, before: Option<i64>, limit: i64) -> Result<StudyPage, StoreError>;
+
+    /// Mark the study cancelled and cancel its unfinished points that no other study still
+    /// wants. `StudyConflict` if every point has finished.
+    async fn cancel_study(&self, id: &str) -> Result<Study, StoreError>;
+
+    /// Delete the study and the finished jobs of its points that no other study shares.
+    /// `StudyConflict` while a point only it holds is queued or running.
+    async fn delete_study(&self, id: &str) -> Result<(), StoreError>;
 }

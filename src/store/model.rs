@@ -282,6 +282,65 @@ impl StateCounts {
     }
 }
 
+/// A study to store: its request and design (JSON), and its points in order.
+#[derive(Debug, Clone)]
+pub struct NewStudy {
+    pub id: String,
+    pub label: String,
+    pub request: serde_json::Value,
+    pub design: serde_json::Value,
+    pub points: Vec<NewStudyPoint>,
+}
+
+/// One point: what it is (JSON), its scene key, and the job to queue if none is shared.
+#[derive(Debug, Clone)]
+pub struct NewStudyPoint {
+    pub spec: serde_json::Value,
+    pub scene_key: String,
+    pub job: NewJob,
+}
+
+#[derive(Debug, Clone)]
+pub struct StudyCreated {
+    pub study: Study,
+    /// Jobs queued for it.
+    pub queued: usize,
+    /// Points that share a job (another point's or an earlier run's).
+    pub shared: usize,
+}
+
+/// A study row with its points.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub seq: i64,
+    pub id: String,
+    pub label: String,
+    pub request: serde_json::Value,
+    pub design: serde_json::Value,
+    pub cancel_requested: bool,
+    pub version: i64,
+    /// Unix milliseconds.
+    pub created_at: i64,
+    pub updated_at: i64,
+    pub points: Vec<StudyPointRow>,
+}
+
+/// A point of a study and its job.
+#[derive(Debug, Clone)]
+pub struct StudyPointRow {
+    pub index: usize,
+    pub spec: serde_json::Value,
+    pub job: Job,
+    /// Other studies hold the same job.
+    pub shared_with_other_studies: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct StudyPage {
+    pub studies: Vec<Study>,
+    pub next: Option<i64>,
+}
+
 /// Milliseconds since the Unix epoch.
 pub fn now_ms() -> i64 {
     std::time::SystemTime::now()

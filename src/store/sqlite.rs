@@ -83,6 +83,66 @@ fn job_from_row(r: &SqliteRow) -> Result<Job, StoreError> {
     })
 }
 
+const STUDY_COLUMNS: &str =
+    "seq, id, label, request, design, cancel_requested, version, created_at, updated_at";
+
+fn study_from_row(r: &SqliteRow) -> Result<Study, StoreError> {
+    let json = |col: &str| -> Result<serde_json::Value, StoreError> {
+        let text: String = r.try_get(col)?;
+        serde_json::from_str(&text).map_err(|e| {
+            StoreError::Db(sqlx::Error::Decode(
+                format!("bad {col} in studies row: {e}").into(),
+            ))
+        })
+    };
+    Ok(Study {
+        seq: r.try_get("seq")?,
+        id: r.try_get("id")?,
+        label: r.try_get("label")?,
+        request: json("request")?,
+        design: json("design")?,
+        cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0,
+        version: r.try_get("version")?,
+        created_at: r.try_get("created_at")?,
+        updated_at: r.try_get("updated_at")?,
+        points: vec![],
+    })
+}
+
+impl SqliteStore {
+    async fn study_points(&self, id: &str) -> Result<Vec<StudyPointRow>, StoreError> {
+        let rows = sqlx::query(&format!(
+            "SELECT sp.idx AS idx, sp.spec AS spec, \
+                 EXISTS (SELECT 1 FROM study_points o WHERE o.job_id = sp.job_id AND o.study_id != sp.study_id) AS others, \
+                 {} \
+             FROM study_points sp JOIN jobs ON jobs.id = sp.job_id WHERE sp.study_id = ? ORDER BY sp.idx",
+            JOB_COLUMNS
+                .split(", ")
+                .map(|c| format!("jobs.{} AS {}", c.trim(), c.trim()))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ))
+        .bind(id)
+        .fetch_all(&self.pool)
+        .await?;
+        rows.iter()
+            .map(|r| {
+                let spec: String = r.try_get("spec")?;
+                Ok(StudyPointRow {
+                    index: r.try_get::<i64, _>("idx")? as usize,
+                    spec: serde_json::from_str(&spec).map_err(|e| {
+                        StoreError::Db(sqlx::Error::Decode(
+                            format!("bad spec of a point of study {id}: {e}").into(),
+                        ))
+                    })?,
+                    job: job_from_row(r)?,
+                    shared_with_other_studies: r.try_get::<i64, _>("others")? != 0,
+                })
+            })
+            .collect()
+    }
+}
+
 fn opt_json(v: &Option<serde_json::Value>) -> Option<String> {
     v.as_ref().map(|v| v.to_string())
 }
@@ -217,7 +277,8 @@ impl Store for SqliteStore {
 
     async fn delete_job(&self, id: &str) -> Result<(), StoreError> {
         let n = sqlx::query(
-            "DELETE FROM jobs WHERE id = ? AND state IN ('succeeded', 'failed', 'cancelled')",
+            "DELETE FROM jobs WHERE id = ? AND state IN ('succeeded', 'failed', 'cancelled') \
+             AND NOT EXISTS (SELECT 1 FROM study_points WHERE job_id = jobs.id)",
         )
         .bind(id)
         .execute(&self.pool)
@@ -225,6 +286,22 @@ impl Store for SqliteStore {
         .rows_affected();
         if n == 0 {
             let job = self.get_job(id).await?;
+            if job.state.is_finished() {
+                let study: Option<String> = sqlx::query_scalar(
+                    "SELECT study_id FROM study_points WHERE job_id = ? LIMIT 1",
+                )
+                .bind(id)
+                .fetch_optional(&self.pool)
+                .await?;
+                return Err(StoreError::Conflict {
+                    id: job.id,
+                    state: job.state,
+                    message: format!(
+                        "it is a point of study {}; delete the study instead",
+                        study.unwrap_or_default()
+                    ),
+                });
+            }
             return Err(StoreError::Conflict {
                 id: job.id,
                 state: job.state,
@@ -445,6 +522,233 @@ impl Store for SqliteStore {
             }
         }
         Ok(c)
+    }
+
+    async fn create_study(
+        &self,
+        study: NewStudy,
+        max_queued: i64,
+    ) -> Result<StudyCreated, StoreError> {
+        let now = now_ms();
+        let mut tx = self.pool.begin().await?;
+        // The first statement writes, so the transaction holds the write lock throughout.
+        sqlx::query(
+            "INSERT INTO studies (id, label, request, design, created_at, updated_at) \
+             VALUES (?, ?, ?, ?, ?, ?)",
+        )
+        .bind(&study.id)
+        .bind(&study.label)
+        .bind(study.request.to_string())
+        .bind(study.design.to_string())
+        .bind(now)
+        .bind(now)
+        .execute(&mut *tx)
+        .await?;
+        let waiting: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM jobs WHERE state = 'queued'")
+            .fetch_one(&mut *tx)
+            .await?;
+        let mut by_key: std::collections::HashMap<String, String> = Default::default();
+        let (mut queued, mut shared) = (0usize, 0usize);
+        for (idx, p) in study.points.iter().enumerate() {
+            let job_id = if let Some(id) = by_key.get(&p.scene_key) {
+                shared += 1;
+                id.clone()
+            } else {
+                let existing: Option<String> = sqlx::query_scalar(
+                    "SELECT id FROM jobs WHERE scene_key = ? AND kind = 'simulation' \
+                     AND state IN ('queued', 'running', 'succeeded') AND cancel_requested = 0 \
+                     ORDER BY seq DESC LIMIT 1",
+                )
+                .bind(&p.scene_key)
+                .fetch_optional(&mut *tx)
+                .await?;
+                let id = match existing {
+                    Some(id) => {
+                        shared += 1;
+                        id
+                    }
+                    None => {
+                        let j = &p.job;
+                        sqlx::query(
+                            "INSERT INTO jobs (id, kind, state, input, request_hash, label, scene_key, created_at, updated_at) \
+                             VALUES (?, ?, 'queued', ?, ?, ?, ?, ?, ?)",
+                        )
+                        .bind(&j.id)
+                        .bind(j.kind.as_str())
+                        .bind(j.input.to_string())
+                        .bind(&j.request_hash)
+                        .bind(&j.label)
+                        .bind(&p.scene_key)
+                        .bind(now)
+                        .bind(now)
+                        .execute(&mut *tx)
+                        .await?;
+                        queued += 1;
+                        j.id.clone()
+                    }
+                };
+                by_key.insert(p.scene_key.clone(), id.clone());
+                id
+            };
+            sqlx::query(
+                "INSERT INTO study_points (study_id, idx, job_id, spec) VALUES (?, ?, ?, ?)",
+            )
+            .bind(&study.id)
+            .bind(idx as i64)
+            .bind(&job_id)
+            .bind(p.spec.to_string())
+            .execute(&mut *tx)
+            .await?;
+        }
+        if queued > 0 && waiting + queued as i64 > max_queued {
+            tx.rollback().await?;
+            return Err(StoreError::QueueFull(waiting));
+        }
+        tx.commit().await?;
+        Ok(StudyCreated {
+            study: self.get_study(&study.id).await?,
+            queued,
+            shared,
+        })
+    }
+
+    async fn get_study(&self, id: &str) -> Result<Study, StoreError> {
+        let row = sqlx::query(&format!("SELECT {STUDY_COLUMNS} FROM studies WHERE id = ?"))
+            .bind(id)
+            .fetch_optional(&self.pool)
+            .await?
+            .ok_or_else(|| StoreError::StudyNotFound(id.to_string()))?;
+        let mut study = study_from_row(&row)?;
+        study.points = self.study_points(id).await?;
+        Ok(study)
+    }
+
+    async fn list_studies(&self, before: Option<i64>, limit: i64) -> Result<StudyPage, StoreError> {
+        let limit = limit.clamp(1, 500);
+        let rows = sqlx::query(&format!(
+            "SELECT {STUDY_COLUMNS} FROM studies WHERE (?1 IS NULL OR seq < ?1) ORDER BY seq DESC LIMIT ?2"
+        ))
+        .bind(before)
+        .bind(limit + 1)
+        .fetch_all(&self.pool)
+        .await?;
+        let mut studies = Vec::with_capacity(rows.len());
+        for r in rows.iter().take(limit as usize) {
+            let mut st = study_from_row(r)?;
+            st.points = self.study_points(&st.id).await?;
+            studies.push(st);
+        }
+        let next = if rows.len() as i64 > limit {
+            studies.last().map(|s| s.seq)
+        } else {
+            None
+        };
+        Ok(StudyPage { studies, next })
+    }
+
+    async fn cancel_study(&self, id: &str) -> Result<Study, StoreError> {
+        let now = now_ms();
+        let mut tx = self.pool.begin().await?;
+        let n = sqlx::query(
+            "UPDATE studies SET cancel_requested = 1, version = version + 1, updated_at = ?2 WHERE id = ?1",
+        )
+        .bind(id)
+        .bind(now)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
+        if n == 0 {
+            return Err(StoreError::StudyNotFound(id.to_string()));
+        }
+        let unfinished: i64 = sqlx::query_scalar(
+            "SELECT COUNT(*) FROM study_points sp JOIN jobs j ON j.id = sp.job_id \
+             WHERE sp.study_id = ? AND j.state IN ('queued', 'running')",
+        )
+        .bind(id)
+        .fetch_one(&mut *tx)
+        .await?;
+        if unfinished == 0 {
+            tx.rollback().await?;
+            return Err(StoreError::StudyConflict {
+                id: id.to_string(),
+                message: "every point has finished; nothing to cancel".into(),
+            });
+        }
+        // Points another study (not itself cancelled) still wants keep running for it.
+        let ours = "id IN (SELECT job_id FROM study_points WHERE study_id = ?1) \
+             AND NOT EXISTS (SELECT 1 FROM study_points o JOIN studies s ON s.id = o.study_id \
+                 WHERE o.job_id = jobs.id AND o.study_id != ?1 AND s.cancel_requested = 0)";
+        let err = JobError {
+            kind: FailureKind::Cancelled,
+            message: format!("cancelled while queued, with study {id}"),
+        };
+        sqlx::query(&format!(
+            "UPDATE jobs SET state = 'cancelled', finished_at = ?2, updated_at = ?2, version = version + 1, \
+             cancel_requested = 1, error = ?3 WHERE state = 'queued' AND {ours}"
+        ))
+        .bind(id)
+        .bind(now)
+        .bind(serde_json::to_string(&err).unwrap_or_default())
+        .execute(&mut *tx)
+        .await?;
+        sqlx::query(&format!(
+            "UPDATE jobs SET cancel_requested = 1, updated_at = ?2, version = version + 1 \
+             WHERE state = 'running' AND cancel_requested = 0 AND {ours}"
+        ))
+        .bind(id)
+        .bind(now)
+        .execute(&mut *tx)
+        .await?;
+        tx.commit().await?;
+        self.get_study(id).await
+    }
+
+    async fn delete_study(&self, id: &str) -> Result<(), StoreError> {
+        let mut tx = self.pool.begin().await?;
+        // A write first: the transaction holds the lock from here.
+        let n = sqlx::query("UPDATE studies SET version = version + 1 WHERE id = ?")
+            .bind(id)
+            .execute(&mut *tx)
+            .await?
+            .rows_affected();
+        if n == 0 {
+            return Err(StoreError::StudyNotFound(id.to_string()));
+        }
+        let busy: i64 = sqlx::query_scalar(
+            "SELECT COUNT(*) FROM study_points sp JOIN jobs j ON j.id = sp.job_id \
+             WHERE sp.study_id = ?1 AND j.state IN ('queued', 'running') \
+             AND NOT EXISTS (SELECT 1 FROM study_points o WHERE o.job_id = sp.job_id AND o.study_id != ?1)",
+        )
+        .bind(id)
+        .fetch_one(&mut *tx)
+        .await?;
+        if busy > 0 {
+            tx.rollback().await?;
+            return Err(StoreError::StudyConflict {
+                id: id.to_string(),
+                message: format!("{busy} of its points are queued or running; cancel it first"),
+            });
+        }
+        let jobs: Vec<String> =
+            sqlx::query_scalar("SELECT DISTINCT job_id FROM study_points WHERE study_id = ?")
+                .bind(id)
+                .fetch_all(&mut *tx)
+                .await?;
+        sqlx::query("DELETE FROM studies WHERE id = ?")
+            .bind(id)
+            .execute(&mut *tx)
+            .await?;
+        for job in jobs {
+            sqlx::query(
+                "DELETE FROM jobs WHERE id = ? AND state IN ('succeeded', 'failed', 'cancelled') \
+                 AND NOT EXISTS (SELECT 1 FROM study_points WHERE job_id = jobs.id)",
+            )
+            .bind(job)
+            .execute(&mut *tx)
+            .await?;
+        }
+        tx.commit().await?;
+        Ok(())
     }
 }
 

@@ -6,7 +6,7 @@
 pub mod params;
 pub mod responses;
 
-use super::{analyses, ops, presets, quasi_static, simulations};
+use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
 use std::sync::OnceLock;
 use utoipa::OpenApi;
 
@@ -15,7 +15,9 @@ const DESCRIPTION: &str = "\
 Submit a scene (inline, or a preset with a fault case and a JSON merge patch of
 overrides); the job is queued durably and run by a bounded worker pool. Poll the job
 (cheaply, with `If-None-Match`), then read its result summary, sampled signals and
-envelope spectra. Measured signals can be analysed with `POST /v1/analyses`.
+envelope spectra, or their plots as SVG. A parameter study (`POST /v1/studies`) queues a
+design of simulations and gives a table and plots of the fault frequencies they show.
+Measured signals can be analysed with `POST /v1/analyses`.
 
 Every error is `application/problem+json` (RFC 9457). Validation problems list every
 field with its path from the request body's root (`scene.bearing.ball_diameter`).
@@ -39,6 +41,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
     servers((url = "http://127.0.0.1:8080", description = "The default bind address")),
     tags(
         (name = "simulations", description = "Dynamic simulations of a bearing scene, queued as jobs."),
+        (name = "studies", description = "Parameter studies: designs of simulations, their table and plots."),
         (name = "analyses", description = "Diagnosis of measured signals."),
         (name = "models", description = "Presets and the quasi-static model, answered directly."),
         (name = "operations", description = "Health, readiness, metrics and this document.")
@@ -52,6 +55,14 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         simulations::result,
         simulations::signals,
         simulations::spectra,
+        simulation_plots::plot,
+        studies::submit,
+        studies::list,
+        studies::get,
+        studies::delete,
+        studies::cancel,
+        studies::table,
+        studies::plot,
         analyses::submit,
         analyses::list,
         analyses::get,

@@ -159,3 +159,52 @@ pub enum AnalysisMode {
 #[schema(value_type = String, format = Binary)]
 #[allow(dead_code)] // documents the octet-stream body
 pub struct RawSamples(Vec<u8>);
+
+/// Study id.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Path)]
+pub struct StudyId {
+    /// Study id (a UUID).
+    #[param(example = "019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71")]
+    pub id: String,
+}
+
+/// A plot's file name.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Path)]
+pub struct PlotName {
+    /// e.g. `spectra.svg`, `speed-inner.svg` (studies); `signal.svg`, `spectrum.svg`,
+    /// `kurtosis.svg` (simulations).
+    #[param(example = "spectra.svg")]
+    pub name: String,
+}
+
+/// Paging of studies.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct StudyListQuery {
+    /// Studies per page (default 20).
+    #[param(minimum = 1, maximum = 100)]
+    pub limit: Option<i64>,
+    /// The `next_cursor` of the previous page.
+    #[param(pattern = "^[1-9][0-9]{0,17}$")]
+    pub cursor: Option<String>,
+}
+
+/// Options of a simulation's plots.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Query)]
+pub struct SimulationPlotQuery {
+    /// `signal.svg`: channel (default the analysed one, e.g. `outer_ring_accel_z`).
+    pub channel: Option<String>,
+    /// `signal.svg`: start of the window, s (default: the analysis window's start).
+    pub from: Option<f64>,
+    /// `signal.svg`: end of the window, s (default: 0.1 s after its start, within the run).
+    pub to: Option<f64>,
+    /// `spectrum.svg`: DTCWT level (default: the raw envelope spectrum).
+    #[param(minimum = 1, maximum = 16)]
+    pub level: Option<usize>,
+    /// `spectrum.svg`: highest frequency drawn, Hz (default 3.5 x BPFI).
+    #[param(exclusive_minimum = 0.0)]
+    pub fmax: Option<f64>,
+}

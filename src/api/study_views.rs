@@ -1,0 +1,280 @@
+//! What the API shows of studies: state and progress derived from the points' jobs, the
+//! ETag over the study and its points, and the table's rows read from the stored records.
+
+use super::problem::{ApiResult, Problem};
+use super::results::record;
+use crate::jobs::record::SimulationRecord;
+use crate::store::{JobError, JobState, Study, StudyPointRow};
+use crate::studies::{DesignSummary, PointSpec, RunDigest, StudyTableRow};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use utoipa::ToSchema;
+
+/// A study's state, from its points': queued until a point runs, running until every
+/// point has finished, then succeeded (some points may have failed: see `progress`),
+/// failed (every point failed) or cancelled.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum StudyState {
+    Queued,
+    Running,
+    Succeeded,
+    Failed,
+    Cancelled,
+}
+
+impl StudyState {
+    pub fn is_finished(self) -> bool {
+        matches!(
+            self,
+            StudyState::Succeeded | StudyState::Failed | StudyState::Cancelled
+        )
+    }
+}
+
+/// How far a study is.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct StudyProgress {
+    pub points_total: usize,
+    /// Points finished, whatever their outcome.
+    pub points_done: usize,
+    pub points_succeeded: usize,
+    pub points_failed: usize,
+    pub points_cancelled: usize,
+    /// Simulated time of every point, s.
+    pub simulated_time_total: f64,
+    /// Simulated time done (finished points count whole, running ones by progress), s.
+    pub simulated_time_done: f64,
+    /// `simulated_time_done / simulated_time_total`, 0..=1.
+    #[schema(minimum = 0.0, maximum = 1.0)]
+    pub fraction: f64,
+}
+
+/// One point of a study and its simulation job.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct StudyPointView {
+    pub index: usize,
+    /// The simulation job that runs it (`/v1/simulations/{job_id}`).
+    pub job_id: String,
+    pub state: JobState,
+    /// Fraction of the point's simulated time done, 0..=1.
+    pub progress: f64,
+    /// Another point, of this study or another, runs on the same job (identical scenes).
+    pub shared: bool,
+    #[serde(flatten)]
+    pub spec: PointSpec,
+    pub error: Option<JobError>,
+}
+
+/// A study as the API shows it.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct StudyView {
+    pub id: String,
+    pub name: String,
+    pub state: StudyState,
+    pub cancel_requested: bool,
+    pub design: DesignSummary,
+    pub progress: StudyProgress,
+    /// RFC 3339, UTC.
+    #[schema(format = DateTime)]
+    pub created_at: String,
+    #[schema(format = DateTime)]
+    pub updated_at: String,
+    pub points: Vec<StudyPointView>,
+    /// `self`, `cancel`, `table`, and one `plot:<name>` per plot.
+    pub links: BTreeMap<String, String>,
+}
+
+/// One page of studies, newest first.
+#[derive(Debug, Clone, Serialize, ToSchema)]
+pub struct StudyPage {
+    pub items: Vec<StudyView>,
+    /// Cursor of the next (older) page; null on the last page.
+    pub next_cursor: Option<String>,
+}
+
+pub fn study_location(id: &str) -> String {
+    format!("/v1/studies/{id}")
+}
+
+/// The stored design of a study.
+pub fn design_of(study: &Study) -> ApiResult<DesignSummary> {
+    serde_json::from_value(study.design.clone()).map_err(|e| {
+        Problem::internal(format!(
+            "stored design of study {} does not parse: {e}",
+            study.id
+        ))
+    })
+}
+
+pub fn spec_of(study: &Study, p: &StudyPointRow) -> ApiResult<PointSpec> {
+    serde_json::from_value(p.spec.clone()).map_err(|e| {
+        Problem::internal(format!(
+            "stored point {} of study {} does not parse: {e}",
+            p.index, study.id
+        ))
+    })
+}
+
+/// Strong ETag over the study's own version and every point's job version.
+pub fn study_etag(study: &Study) -> String {
+    // FNV-1a over the versions: any point's change changes the tag
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: i64| {
+        for b in x.to_le_bytes() {
+            h ^= b as u64;
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    eat(study.version);
+    for p in &study.points {
+        eat(p.job.seq);
+        eat(p.job.version);
+    }
+    format!("\"{}-{h:016x}\"", &study.id[..study.id.len().min(8)])
+}
+
+pub fn study_state(study: &Study) -> StudyState {
+    let states: Vec<JobState> = study.points.iter().map(|p| p.job.state).collect();
+    if states.iter().any(|s| !s.is_finished()) {
+        if states.iter().any(|s| *s != JobState::Queued) {
+            StudyState::Running
+        } else {
+            StudyState::Queued
+        }
+    } else if study.cancel_requested {
+        StudyState::Cancelled
+    } else if states.contains(&JobState::Succeeded) {
+        StudyState::Succeeded
+    } else if states.iter().all(|s| *s == JobState::Cancelled) {
+        StudyState::Cancelled
+    } else {
+        StudyState::Failed
+    }
+}
+
+pub fn view(study: &Study, plot_names: &[String]) -> ApiResult<StudyView> {
+    let design = design_of(study)?;
+    let mut points = Vec::with_capacity(study.points.len());
+    let (mut total, mut done_time) = (0.0, 0.0);
+    let count = |s: JobState| study.points.iter().filter(|p| p.job.state == s).count();
+    let (succeeded, failed, cancelled) = (
+        count(JobState::Succeeded),
+        count(JobState::Failed),
+        count(JobState::Cancelled),
+    );
+    let mut per_job: BTreeMap<&str, usize> = BTreeMap::new();
+    for p in &study.points {
+        *per_job.entry(p.job.id.as_str()).or_default() += 1;
+    }
+    for p in &study.points {
+        let spec = spec_of(study, p)?;
+        total += spec.duration;
+        done_time += if p.job.state.is_finished() {
+            spec.duration
+        } else {
+            spec.duration * p.job.progress
+        };
+        points.push(StudyPointView {
+            index: p.index,
+            job_id: p.job.id.clone(),
+            state: p.job.state,
+            progress: p.job.progress,
+            shared: p.shared_with_other_studies || per_job[p.job.id.as_str()] > 1,
+            spec,
+            error: p.job.error.clone(),
+        });
+    }
+    let base = study_location(&study.id);
+    let mut links = BTreeMap::new();
+    links.insert("self".to_string(), base.clone());
+    links.insert("cancel".to_string(), format!("{base}/cancel"));
+    links.insert("table".to_string(), format!("{base}/table"));
+    for n in plot_names {
+        links.insert(format!("plot:{n}"), format!("{base}/plots/{n}"));
+    }
+    Ok(StudyView {
+        id: study.id.clone(),
+        name: study.label.clone(),
+        state: study_state(study),
+        cancel_requested: study.cancel_requested,
+        design,
+        progress: StudyProgress {
+            points_total: study.points.len(),
+            points_done: succeeded + failed + cancelled,
+            points_succeeded: succeeded,
+            points_failed: failed,
+            points_cancelled: cancelled,
+            simulated_time_total: total,
+            simulated_time_done: done_time,
+            fraction: if total > 0.0 {
+                (done_time / total).clamp(0.0, 1.0)
+            } else {
+                0.0
+            },
+        },
+        created_at: super::views::rfc3339(study.created_at),
+        updated_at: super::views::rfc3339(
+            study
+                .points
+                .iter()
+                .map(|p| p.job.updated_at)
+                .fold(study.updated_at, i64::max),
+        ),
+        points,
+        links,
+    })
+}
+
+/// What a table row needs of a succeeded point's stored record (`Err`: why it has none).
+pub fn digest(p: &StudyPointRow) -> Result<RunDigest, String> {
+    let rec: SimulationRecord = record(&p.job).map_err(|e| e.detail.clone())?;
+    let analysis = rec.analysis.ok_or_else(|| {
+        rec.analysis_error
+            .unwrap_or_else(|| "no analysis was stored".into())
+    })?;
+    let frequencies = rec
+        .frequencies
+        .ok_or("the record predates frequency comparisons")?;
+    Ok(RunDigest {
+        frequencies,
+        report: analysis.report,
+        cage_speed: rec.cage.mean_speed,
+        epicyclic_speed: rec.cage.epicyclic_speed,
+        slip: rec.cage.slip,
+        cage_motion: rec.cage.motion,
+        wall_time: rec.solver.wall_time,
+    })
+}
+
+/// The table rows of a study, in point order.
+pub fn rows(study: &Study) -> ApiResult<Vec<StudyTableRow>> {
+    study
+        .points
+        .iter()
+        .map(|p| {
+            let spec = spec_of(study, p)?;
+            let (d, err) = match p.job.state {
+                JobState::Succeeded => match digest(p) {
+                    Ok(d) => (Some(d), None),
+                    Err(e) => (None, Some(e)),
+                },
+                _ => (
+                    None,
+                    p.job
+                        .error
+                        .as_ref()
+                        .map(|e| format!("{}: {}", e.kind, e.message)),
+                ),
+            };
+            Ok(StudyTableRow::new(
+                p.index,
+                &spec,
+                Some(p.job.id.clone()),
+                p.job.state,
+                err,
+                d.as_ref(),
+            ))
+        })
+        .collect()
+}

@@ -1,0 +1,8 @@
+//! Operations on JSON documents that requests describe scenes with: merge patches
+//! (RFC 7396) over a preset, and assignments at JSON pointers (RFC 6901) for study designs.
+
+pub mod merge_patch;
+pub mod pointer;
+
+pub use merge_patch::merge_patch;
+pub use pointer::{set_at_pointer, PointerError};

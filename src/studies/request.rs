@@ -1,0 +1,105 @@
+//! What a study request says: a base scene and a design of points over it.
+
+use bearing_core::scene::{FaultCase, Scene};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use utoipa::ToSchema;
+
+/// A parameter study: every point is the base scene with some fields set.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StudyRequest {
+    /// Label shown in listings and plot titles (default: the design's and the base scene's).
+    #[serde(default)]
+    #[schema(nullable = false, max_length = 200)]
+    pub name: Option<String>,
+    pub base: StudyBase,
+    pub design: DesignSpec,
+}
+
+/// The scene every point starts from: an inline `scene`, or a `preset` with an optional
+/// `fault_case` and `overrides` (a JSON merge patch, RFC 7396), as for simulations.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StudyBase {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Scene>, nullable = false)]
+    pub scene: Option<Value>,
+    /// `h7005c`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false, example = "h7005c")]
+    pub preset: Option<String>,
+    /// Default `none`; a design's `fault_cases` replace it point by point.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false)]
+    pub fault_case: Option<FaultCase>,
+    /// JSON merge patch over the preset scene, e.g. `{"solver": {"duration": 0.05}}`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(value_type = Option<Object>, nullable = false)]
+    pub overrides: Option<Value>,
+}
+
+/// Which points a study runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DesignSpec {
+    /// Every combination of the factors' values (and of the fault cases, if given).
+    Grid {
+        #[serde(default)]
+        factors: Vec<FactorSpec>,
+        /// Run the design once per fault case (needs a `preset` base).
+        #[serde(default)]
+        fault_cases: Vec<FaultCase>,
+    },
+    /// Each factor varied alone, the others at the base scene's values (Figures 23-28).
+    OneAtATime {
+        factors: Vec<FactorSpec>,
+        /// Run the design once per fault case (needs a `preset` base).
+        #[serde(default)]
+        fault_cases: Vec<FaultCase>,
+    },
+    /// A design shipped with the service.
+    Named { name: NamedDesign },
+}
+
+/// Designs shipped as data (docs/studies.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+pub enum NamedDesign {
+    /// Figures 23-28: shaft speed, axial load and radial load lines for single inner and
+    /// single outer faults, at constant speed (17 points per fault).
+    #[serde(rename = "paper-trends")]
+    PaperTrends,
+    /// Table 2: the nine compound-fault groups of inner and outer defect diameter and depth.
+    #[serde(rename = "table2")]
+    Table2,
+}
+
+impl NamedDesign {
+    pub fn name(self) -> &'static str {
+        match self {
+            NamedDesign::PaperTrends => "paper-trends",
+            NamedDesign::Table2 => "table2",
+        }
+    }
+}
+
+/// One factor: scene fields named by JSON pointer (RFC 6901) set to each value in turn.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FactorSpec {
+    /// Column and plot name (default: the pointer's last two segments). Letters, digits,
+    /// `_` and `-`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schema(nullable = false, pattern = "^[A-Za-z0-9_-]{1,64}$")]
+    pub name: Option<String>,
+    /// The scene field, e.g. `/operating/axial_load`.
+    #[schema(example = "/operating/axial_load")]
+    pub pointer: String,
+    /// More fields set to the same value, e.g. `/operating/speed/initial_rpm` beside
+    /// `/operating/speed/steady_rpm` for a constant speed.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<String>,
+    /// The values, in the field's unit (SI, rpm for speeds).
+    #[schema(min_items = 1, example = json!([100.0, 200.0, 400.0]))]
+    pub values: Vec<f64>,
+}
