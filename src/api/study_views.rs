@@ -278,3 +278,68 @@ pub fn rows(study: &Study) -> ApiResult<Vec<StudyTableRow>> {
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::store::{Job, JobKind};
+
+    fn study(states: &[JobState], cancel_requested: bool) -> Study {
+        let job = |i: usize, state: JobState| Job {
+            seq: i as i64,
+            id: format!("job-{i}"),
+            kind: JobKind::Simulation,
+            state,
+            label: String::new(),
+            progress: 0.0,
+            attempt: 1,
+            cancel_requested: false,
+            version: 1,
+            created_at: 0,
+            started_at: None,
+            finished_at: None,
+            updated_at: 0,
+            error: None,
+            stats: None,
+            result: None,
+        };
+        Study {
+            seq: 1,
+            id: "study-1".into(),
+            label: String::new(),
+            request: serde_json::Value::Null,
+            design: serde_json::Value::Null,
+            cancel_requested,
+            version: 1,
+            created_at: 0,
+            updated_at: 0,
+            points: states
+                .iter()
+                .enumerate()
+                .map(|(i, s)| StudyPointRow {
+                    index: i,
+                    spec: serde_json::Value::Null,
+                    job: job(i, *s),
+                    shared_with_other_studies: false,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn a_failed_point_does_not_fail_the_study() {
+        use JobState::*;
+        let state = |s: &[JobState], c| study_state(&study(s, c));
+        assert_eq!(state(&[Queued, Queued], false), StudyState::Queued);
+        assert_eq!(state(&[Succeeded, Queued], false), StudyState::Running);
+        assert_eq!(state(&[Succeeded, Failed], false), StudyState::Succeeded);
+        assert_eq!(state(&[Failed, Failed], false), StudyState::Failed);
+        assert_eq!(state(&[Succeeded, Cancelled], true), StudyState::Cancelled);
+        assert_eq!(state(&[Cancelled, Cancelled], false), StudyState::Cancelled);
+        // the tag moves with any point's version
+        let a = study(&[Running, Queued], false);
+        let mut b = a.clone();
+        b.points[1].job.version += 1;
+        assert_ne!(study_etag(&a), study_etag(&b));
+    }
+}

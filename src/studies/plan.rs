@@ -297,6 +297,41 @@ fn factor_name(f: &FactorSpec) -> String {
     }
 }
 
+/// The SI unit of a scene field, from its name's conventions (docs/model.md: SI units,
+/// speeds in rpm); `None` for a field the table does not know.
+fn unit_of(pointer: &str) -> Option<&'static str> {
+    let last = pointer.rsplit('/').next().unwrap_or("");
+    let ends = |s: &str| last == s || last.ends_with(&format!("_{s}"));
+    Some(if last.ends_with("_rpm") {
+        "rpm"
+    } else if ends("load") {
+        "N"
+    } else if ends("angle") {
+        "rad"
+    } else if ["width", "depth", "diameter", "clearance"]
+        .iter()
+        .any(|s| ends(s))
+    {
+        "m"
+    } else if ends("duration") || ends("time") || ends("step") {
+        "s"
+    } else if ends("mass") {
+        "kg"
+    } else if last.starts_with("stiffness") {
+        "N/m"
+    } else if last.starts_with("damping_") {
+        "N s/m"
+    } else if ends("viscosity") {
+        "Pa s"
+    } else if ends("modulus") || ends("stress") {
+        "Pa"
+    } else if ends("rate") {
+        "Hz"
+    } else {
+        return None;
+    })
+}
+
 /// Check the factors and name them.
 fn factor_infos(factors: &[FactorSpec], problems: &mut Vec<PlanProblem>) -> Vec<FactorInfo> {
     let mut infos: Vec<FactorInfo> = Vec::new();
@@ -333,7 +368,10 @@ fn factor_infos(factors: &[FactorSpec], problems: &mut Vec<PlanProblem>) -> Vec<
             problems.push(problem(at("values"), "give at least one value"));
         }
         infos.push(FactorInfo {
-            label: format!("{name} ({})", f.pointer),
+            label: match unit_of(&f.pointer) {
+                Some(unit) => format!("{name} ({unit}), {}", f.pointer),
+                None => format!("{name}, {}", f.pointer),
+            },
             name,
             pointers: std::iter::once(&f.pointer)
                 .chain(&f.also)
@@ -673,6 +711,14 @@ mod tests {
         assert_eq!(p.scene.operating.speed.steady_rpm, 8000.0);
         assert_eq!(p.scene.operating.speed.initial_rpm, 8000.0);
         assert_eq!(g.design.factors[0].name, "operating_axial_load");
+        assert_eq!(
+            g.design.factors[0].label,
+            "operating_axial_load (N), /operating/axial_load"
+        );
+        assert_eq!(
+            g.design.factors[1].label,
+            "speed (rpm), /operating/speed/steady_rpm"
+        );
         let o = plan(&request(
             json!({"base": {"preset": "h7005c", "fault_case": "outer"},
             "design": {"type": "one_at_a_time", "factors": factors}}),
