@@ -109,20 +109,7 @@ pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResul
             Problem::bad_request(format!("query parameter 'state' = '{s}': expected queued, running, succeeded, failed or cancelled"))
         })?),
     };
-    let limit = q.get::<i64>("limit")?.unwrap_or(50);
-    if !(1..=500).contains(&limit) {
-        return Err(Problem::bad_request(
-            "query parameter 'limit' must be in 1..=500",
-        ));
-    }
-    let before = match q.str("cursor") {
-        None => None,
-        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| {
-            Problem::bad_request(format!(
-                "query parameter 'cursor' = '{c}' is not a cursor from a previous page"
-            ))
-        })?),
-    };
+    let (limit, before) = paging(&q, 50, 500)?;
     let page = state
         .store
         .list_jobs(&ListFilter {
@@ -158,6 +145,26 @@ pub async fn delete(state: AppState, kind: JobKind, id: String) -> ApiResult<Res
     load(&state, kind, &id).await?;
     state.store.delete_job(&id).await?;
     Ok(StatusCode::NO_CONTENT.into_response())
+}
+
+/// `limit` (default `default`, at most `max`) and `cursor` (the `seq` to list below) of a
+/// listing.
+pub fn paging(q: &QueryParams, default: i64, max: i64) -> ApiResult<(i64, Option<i64>)> {
+    let limit = q.get::<i64>("limit")?.unwrap_or(default);
+    if !(1..=max).contains(&limit) {
+        return Err(Problem::bad_request(format!(
+            "query parameter 'limit' must be in 1..={max}"
+        )));
+    }
+    let before = match q.str("cursor") {
+        None => None,
+        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| {
+            Problem::bad_request(format!(
+                "query parameter 'cursor' = '{c}' is not a cursor from a previous page"
+            ))
+        })?),
+    };
+    Ok((limit, before))
 }
 
 /// The job, if it succeeded; 409 otherwise (with its state).

@@ -7,6 +7,7 @@ use super::openapi::params::{JobId, PlotName, SimulationPlotQuery};
 use super::openapi::responses::{BadRequest, Conflict, NotFound};
 use super::problem::{ApiResult, Problem};
 use super::results::{record, stored_analysis};
+use super::simulations::sample_window;
 use super::state::AppState;
 use super::studies::svg_response;
 use crate::jobs::artifacts::{channel_artifact_name, spectrum_artifact_name};
@@ -94,10 +95,7 @@ pub async fn plot(
                     "query parameters 'from' and 'to' must be finite with from < to",
                 ));
             }
-            let first = (((from - t0) * fs).ceil().max(0.0) as usize).min(data.len());
-            let last = ((((to - t0) * fs).floor() + 1.0).max(0.0) as usize)
-                .min(data.len())
-                .max(first);
+            let (first, last) = sample_window(t0, fs, data.len(), Some(from), Some(to));
             if last - first < 2 {
                 return Err(Problem::bad_request(format!(
                     "the window [{from}, {to}] s holds fewer than 2 samples (the channel spans [{t0}, {t_end}] s)"

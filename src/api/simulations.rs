@@ -51,6 +51,27 @@ pub struct SignalView {
     pub data: Vec<f64>,
 }
 
+/// Indices `first..last` of the samples with `from <= t <= to` (either bound optional) of a
+/// channel whose sample `k` is at `t0 + k / fs`.
+pub fn sample_window(
+    t0: f64,
+    fs: f64,
+    n: usize,
+    from: Option<f64>,
+    to: Option<f64>,
+) -> (usize, usize) {
+    let first = from
+        .map(|f| ((f - t0) * fs).ceil().max(0.0) as usize)
+        .unwrap_or(0)
+        .min(n);
+    let last = to
+        .map(|t| (((t - t0) * fs).floor() + 1.0).max(0.0) as usize)
+        .unwrap_or(n)
+        .min(n)
+        .max(first);
+    (first, last)
+}
+
 /// Queue a simulation
 ///
 /// Either `{"scene": {...}}` or `{"preset": "h7005c", "fault_case": "compound",
@@ -172,17 +193,7 @@ pub async fn signals(
         )));
     };
     let data = decode_f32le(&a.data);
-    let n = data.len();
-    // Sample k is at t0 + k / fs; the window keeps samples with from <= t <= to.
-    let first = from
-        .map(|f| ((f - t0) * fs).ceil().max(0.0) as usize)
-        .unwrap_or(0)
-        .min(n);
-    let last = to
-        .map(|t| (((t - t0) * fs).floor() + 1.0).max(0.0) as usize)
-        .unwrap_or(n)
-        .min(n)
-        .max(first);
+    let (first, last) = sample_window(t0, fs, data.len(), from, to);
     let len = last - first;
     let step = len.div_ceil(max_points).max(1);
     let values: Vec<f64> = data[first..last].iter().step_by(step).copied().collect();

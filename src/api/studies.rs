@@ -1,7 +1,7 @@
 //! `/v1/studies`: parameter studies, each point a simulation job; their table and plots.
 
 use super::extract::{parse_value, require_json, QueryParams};
-use super::job_resource::long_poll;
+use super::job_resource::{long_poll, paging};
 use super::openapi::params::{IfNoneMatch, PlotName, StudyId, StudyListQuery, WaitQuery};
 use super::openapi::responses::{
     BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
@@ -225,20 +225,7 @@ pub async fn get(
 )]
 pub async fn list(State(state): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
-    let limit = q.get::<i64>("limit")?.unwrap_or(20);
-    if !(1..=100).contains(&limit) {
-        return Err(Problem::bad_request(
-            "query parameter 'limit' must be in 1..=100",
-        ));
-    }
-    let before = match q.str("cursor") {
-        None => None,
-        Some(c) => Some(c.parse::<i64>().ok().filter(|n| *n > 0).ok_or_else(|| {
-            Problem::bad_request(format!(
-                "query parameter 'cursor' = '{c}' is not a cursor from a previous page"
-            ))
-        })?),
-    };
+    let (limit, before) = paging(&q, 20, 100)?;
     let page = state.store.list_studies(before, limit).await?;
     let items = page
         .studies

@@ -172,6 +172,7 @@ pub fn plan(req: &StudyRequest) -> Result<Plan, Vec<PlanProblem>> {
     let name = req
         .name
         .clone()
+        .filter(|n| !n.trim().is_empty())
         .unwrap_or_else(|| format!("{} study of {base_name}", design.kind));
     Ok(Plan {
         name,

@@ -11,7 +11,7 @@ use utoipa::ToSchema;
 pub struct StudyRequest {
     /// Label shown in listings and plot titles (default: the design's and the base scene's).
     #[serde(default)]
-    #[schema(nullable = false, max_length = 200)]
+    #[schema(max_length = 200)]
     pub name: Option<String>,
     pub base: StudyBase,
     pub design: DesignSpec,
@@ -23,19 +23,18 @@ pub struct StudyRequest {
 #[serde(deny_unknown_fields)]
 pub struct StudyBase {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Scene>, nullable = false)]
+    #[schema(value_type = Option<Scene>)]
     pub scene: Option<Value>,
     /// `h7005c`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(nullable = false, example = "h7005c")]
+    #[schema(example = "h7005c")]
     pub preset: Option<String>,
     /// Default `none`; a design's `fault_cases` replace it point by point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(nullable = false)]
     pub fault_case: Option<FaultCase>,
     /// JSON merge patch over the preset scene, e.g. `{"solver": {"duration": 0.05}}`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(value_type = Option<Object>, nullable = false)]
+    #[schema(value_type = Option<Object>)]
     pub overrides: Option<Value>,
 }
 
@@ -90,7 +89,7 @@ pub struct FactorSpec {
     /// Column and plot name (default: the pointer's last two segments). Letters, digits,
     /// `_` and `-`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    #[schema(nullable = false, pattern = "^[A-Za-z0-9_-]{1,64}$")]
+    #[schema(pattern = "^[A-Za-z0-9_-]{1,64}$")]
     pub name: Option<String>,
     /// The scene field, e.g. `/operating/axial_load`.
     #[schema(example = "/operating/axial_load")]
