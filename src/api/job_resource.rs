@@ -50,7 +50,7 @@ pub async fn get_job(
         &headers,
         q.as_deref(),
         || load(&state, kind, &id),
-        |job| etag(job),
+        etag,
         |job| job.state.is_finished(),
         |job| Ok(job_response(StatusCode::OK, job)),
     )

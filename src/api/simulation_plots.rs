@@ -7,10 +7,10 @@ use super::openapi::params::{JobId, PlotName, SimulationPlotQuery};
 use super::openapi::responses::{BadRequest, Conflict, NotFound};
 use super::problem::{ApiResult, Problem};
 use super::results::{record, stored_analysis};
-use super::simulations::sample_window;
+use super::simulations::{load_channel, sample_window, StoredChannel};
 use super::state::AppState;
 use super::studies::svg_response;
-use crate::jobs::artifacts::{channel_artifact_name, spectrum_artifact_name};
+use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::jobs::record::SimulationRecord;
 use crate::plots::{kurtosis_svg, signal_svg, spectrum_svg, Marker, SignalTrace, SpectrumPanel};
 use crate::store::blob::decode_f32le;
@@ -68,25 +68,12 @@ pub async fn plot(
                 .map(str::to_string)
                 .or(analysis.channel.clone())
                 .unwrap_or_else(|| "outer_ring_accel_z".into());
-            let Some(a) = state
-                .store
-                .get_artifact(&id, &channel_artifact_name(&channel))
-                .await?
-            else {
-                return Err(Problem::not_found(format!(
-                    "simulation {id} has no channel '{channel}'"
-                )));
-            };
-            let ArtifactMeta::Channel {
+            let StoredChannel {
+                data,
                 sample_rate: fs,
                 start_time: t0,
                 unit,
-                ..
-            } = a.meta
-            else {
-                return Err(Problem::internal(format!("artifact {} is not a channel", a.name)));
-            };
-            let data = decode_f32le(&a.data);
+            } = load_channel(&state, &id, &channel).await?;
             let t_end = t0 + data.len().saturating_sub(1) as f64 / fs;
             let from = q.f64("from")?.unwrap_or(rec.steady_window[0].max(t0));
             let to = q.f64("to")?.unwrap_or((from + DEFAULT_WINDOW).min(t_end));

@@ -51,6 +51,47 @@ pub struct SignalView {
     pub data: Vec<f64>,
 }
 
+/// A stored channel's samples, decoded.
+pub struct StoredChannel {
+    pub data: Vec<f64>,
+    /// Hz.
+    pub sample_rate: f64,
+    /// Time of sample 0, s.
+    pub start_time: f64,
+    pub unit: String,
+}
+
+/// Load a succeeded simulation's channel (404 if it has none of that name).
+pub async fn load_channel(state: &AppState, id: &str, channel: &str) -> ApiResult<StoredChannel> {
+    let Some(a) = state
+        .store
+        .get_artifact(id, &channel_artifact_name(channel))
+        .await?
+    else {
+        return Err(Problem::not_found(format!(
+            "simulation {id} has no channel '{channel}'"
+        )));
+    };
+    let ArtifactMeta::Channel {
+        sample_rate,
+        start_time,
+        unit,
+        ..
+    } = a.meta
+    else {
+        return Err(Problem::internal(format!(
+            "artifact {} of simulation {id} is not a channel",
+            a.name
+        )));
+    };
+    Ok(StoredChannel {
+        data: decode_f32le(&a.data),
+        sample_rate,
+        start_time,
+        unit,
+    })
+}
+
 /// Indices `first..last` of the samples with `from <= t <= to` (either bound optional) of a
 /// channel whose sample `k` is at `t0 + k / fs`.
 pub fn sample_window(
@@ -171,28 +212,12 @@ pub async fn signals(
         )));
     }
     succeeded(&state, KIND, &id).await?;
-    let Some(a) = state
-        .store
-        .get_artifact(&id, &channel_artifact_name(&channel))
-        .await?
-    else {
-        return Err(Problem::not_found(format!(
-            "simulation {id} has no channel '{channel}'"
-        )));
-    };
-    let ArtifactMeta::Channel {
+    let StoredChannel {
+        data,
         sample_rate: fs,
         start_time: t0,
         unit,
-        ..
-    } = a.meta
-    else {
-        return Err(Problem::internal(format!(
-            "artifact {} of simulation {id} is not a channel",
-            a.name
-        )));
-    };
-    let data = decode_f32le(&a.data);
+    } = load_channel(&state, &id, &channel).await?;
     let (first, last) = sample_window(t0, fs, data.len(), from, to);
     let len = last - first;
     let step = len.div_ceil(max_points).max(1);
