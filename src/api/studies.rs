@@ -12,7 +12,7 @@ use super::study_views::{design_of, rows, study_etag, study_location, view, Stud
 use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, Study};
-use crate::studies::charts::{draw, plot_names, PointSpectrum};
+use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
 use crate::studies::scene_key::scene_key;
 use crate::studies::{plan, to_csv, StudyRequest, StudyTable};
 use axum::body::Bytes;
@@ -153,12 +153,8 @@ pub async fn submit(
     study_response(StatusCode::ACCEPTED, &created.study)
 }
 
-fn names(study: &Study) -> ApiResult<Vec<String>> {
-    Ok(plot_names(&design_of(study)?, &rows(study)?))
-}
-
 fn study_response(status: StatusCode, study: &Study) -> ApiResult<Response> {
-    let v = view(study, &names(study)?)?;
+    let v = view(study)?;
     let mut res = (status, Json(v)).into_response();
     let h = res.headers_mut();
     if let Ok(v) = HeaderValue::from_str(&study_etag(study)) {
@@ -230,7 +226,7 @@ pub async fn list(State(state): State<AppState>, RawQuery(q): RawQuery) -> ApiRe
     let items = page
         .studies
         .iter()
-        .map(|s| view(s, &names(s)?))
+        .map(view)
         .collect::<ApiResult<Vec<_>>>()?;
     Ok(Json(StudyPage {
         items,
@@ -382,7 +378,7 @@ pub async fn plot(
         None => {
             return Err(Problem::not_found(format!(
                 "study {id} has no plot '{name}'; it has {}",
-                plot_names(&design, &rows).join(", ")
+                plot_names(&design, row_keys(&rows)).join(", ")
             )))
         }
         Some(Err(e)) => {

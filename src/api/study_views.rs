@@ -5,6 +5,7 @@ use super::problem::{ApiResult, Problem};
 use super::results::record;
 use crate::jobs::record::SimulationRecord;
 use crate::store::{JobError, JobState, Study, StudyPointRow};
+use crate::studies::charts::plot_names;
 use crate::studies::{DesignSummary, PointSpec, RunDigest, StudyTableRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -153,7 +154,7 @@ pub fn study_state(study: &Study) -> StudyState {
     }
 }
 
-pub fn view(study: &Study, plot_names: &[String]) -> ApiResult<StudyView> {
+pub fn view(study: &Study) -> ApiResult<StudyView> {
     let design = design_of(study)?;
     let mut points = Vec::with_capacity(study.points.len());
     let (mut total, mut done_time) = (0.0, 0.0);
@@ -190,7 +191,14 @@ pub fn view(study: &Study, plot_names: &[String]) -> ApiResult<StudyView> {
     links.insert("self".to_string(), base.clone());
     links.insert("cancel".to_string(), format!("{base}/cancel"));
     links.insert("table".to_string(), format!("{base}/table"));
-    for n in plot_names {
+    // plot names come from the points' specs: no stored record is read to list them
+    let names = plot_names(
+        &design,
+        points
+            .iter()
+            .map(|p| (p.spec.line.as_deref(), p.spec.fault_case)),
+    );
+    for n in &names {
         links.insert(format!("plot:{n}"), format!("{base}/plots/{n}"));
     }
     Ok(StudyView {

@@ -2,7 +2,7 @@
 //! in-process, with the same expansion, table and plots as `POST /v1/studies`.
 
 use super::result::CliResult;
-use crate::studies::charts::{draw, plot_names, PointSpectrum};
+use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
 use crate::studies::scene_key::scene_key;
 use crate::studies::table::JobState;
 use crate::studies::{
@@ -230,7 +230,7 @@ pub fn run_request(
         }
     }
     let mut lookup = |r: &StudyTableRow| spectra.get(&r.index).cloned();
-    for name in plot_names(&plan.design, &table.rows) {
+    for name in plot_names(&plan.design, row_keys(&table.rows)) {
         match draw(&plan.name, &plan.design, &table.rows, &name, &mut lookup) {
             Some(Ok(svg)) => write(&name, &svg)?,
             Some(Err(e)) => eprintln!("{name}: not drawn: {e}"),

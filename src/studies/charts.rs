@@ -31,13 +31,18 @@ fn case_name(c: Option<FaultCase>) -> &'static str {
 }
 
 /// The trend plots a study has: `{factor}-{fault case}.svg` for each factor line (designs
-/// with lines), then the spectra grid.
-pub fn plot_names(design: &DesignSummary, rows: &[StudyTableRow]) -> Vec<String> {
+/// with lines), then the spectra grid. Read from the points' line and fault case only, so
+/// listing them needs no run's result.
+pub fn plot_names<'a>(
+    design: &DesignSummary,
+    points: impl IntoIterator<Item = (Option<&'a str>, Option<FaultCase>)>,
+) -> Vec<String> {
+    let points: Vec<_> = points.into_iter().collect();
     let mut names = Vec::new();
     if design.lines {
         for f in &design.factors {
-            for r in rows.iter().filter(|r| r.line.as_deref() == Some(&f.name)) {
-                let n = format!("{}-{}.svg", f.name, case_name(r.fault_case));
+            for (_, case) in points.iter().filter(|(line, _)| *line == Some(&f.name)) {
+                let n = format!("{}-{}.svg", f.name, case_name(*case));
                 if !names.contains(&n) {
                     names.push(n);
                 }
@@ -46,6 +51,11 @@ pub fn plot_names(design: &DesignSummary, rows: &[StudyTableRow]) -> Vec<String>
     }
     names.push(SPECTRA_PLOT.into());
     names
+}
+
+/// Line and fault case of each row, for [`plot_names`].
+pub fn row_keys(rows: &[StudyTableRow]) -> impl Iterator<Item = (Option<&str>, Option<FaultCase>)> {
+    rows.iter().map(|r| (r.line.as_deref(), r.fault_case))
 }
 
 /// Draw one of [`plot_names`]; `None` if the study has no such plot. `spectrum(i)` gives
@@ -57,7 +67,7 @@ pub fn draw(
     name: &str,
     spectrum: &mut dyn FnMut(&StudyTableRow) -> Option<PointSpectrum>,
 ) -> Option<Result<String, PlotError>> {
-    if !plot_names(design, rows).iter().any(|n| n == name) {
+    if !plot_names(design, row_keys(rows)).iter().any(|n| n == name) {
         return None;
     }
     if name == SPECTRA_PLOT {
@@ -156,20 +166,17 @@ fn spectra_grid(
                 });
             }
         }
-        let mut t = r
-            .label
-            .clone()
-            .unwrap_or_else(|| format!("point {}", r.index));
-        if r.label.is_some() || design.factors.len() <= 2 {
-            let values: Vec<String> = r
+        // a label, else the factor values while they fit a panel's title, else the index
+        let mut t = match &r.label {
+            Some(l) => l.clone(),
+            None if design.factors.len() <= 2 => r
                 .factors
                 .iter()
                 .map(|v| format!("{}={}", v.name, short(v.value)))
-                .collect();
-            if r.label.is_none() {
-                t = values.join(", ");
-            }
-        }
+                .collect::<Vec<_>>()
+                .join(", "),
+            None => format!("point {}", r.index),
+        };
         if let Some(c) = r.fault_case {
             t.push_str(&format!(" ({})", case_name(Some(c))));
         }
