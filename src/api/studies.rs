@@ -13,7 +13,6 @@ use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, Study};
 use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
-use crate::studies::scene_key::scene_key;
 use crate::studies::{plan, to_csv, StudyRequest, StudyTable};
 use axum::body::Bytes;
 use axum::extract::{Path, RawQuery, State};
@@ -85,8 +84,7 @@ pub async fn submit(
         let mut seen = std::collections::HashMap::new();
         let mut problems = Vec::new();
         for (i, p) in plan.points.iter().enumerate() {
-            let key = scene_key(&p.scene);
-            if seen.contains_key(&key) {
+            if seen.contains_key(&p.key) {
                 continue;
             }
             if let Err(e) = bearing_core::simulation::check_start(&p.scene) {
@@ -95,7 +93,7 @@ pub async fn submit(
                     message: f.message,
                 }));
             }
-            seen.insert(key, i);
+            seen.insert(&p.key, i);
             if problems.len() > 50 {
                 break;
             }
@@ -115,7 +113,6 @@ pub async fn submit(
     let mut points = Vec::with_capacity(n);
     for (i, p) in plan.points.iter().enumerate() {
         let input = serde_json::to_value(&p.scene).map_err(|e| Problem::internal(e.to_string()))?;
-        let key = scene_key(&p.scene);
         points.push(NewStudyPoint {
             spec: serde_json::to_value(&p.spec).map_err(|e| Problem::internal(e.to_string()))?,
             job: NewJob {
@@ -125,9 +122,9 @@ pub async fn submit(
                 input,
                 input_blob: None,
                 idempotency_key: None,
-                request_hash: key.clone(),
+                request_hash: p.key.clone(),
             },
-            scene_key: key,
+            scene_key: p.key.clone(),
         });
     }
     let created = state

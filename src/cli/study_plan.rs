@@ -3,7 +3,6 @@
 
 use super::result::CliResult;
 use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
-use crate::studies::scene_key::scene_key;
 use crate::studies::table::JobState;
 use crate::studies::{
     plan, to_csv, DesignSpec, NamedDesign, RunDigest, StudyBase, StudyRequest, StudyTable,
@@ -142,34 +141,28 @@ pub fn run_request(
         format!("the study is invalid:\n{}", lines.join("\n"))
     })?;
     std::fs::create_dir_all(out).map_err(|e| format!("--out {}: {e}", out.display()))?;
-    let mut keys: Vec<String> = Vec::new();
+    // each distinct scene once: `first_of[u]` is the first point of scene `u`
     let mut slot = Vec::with_capacity(plan.points.len());
-    let mut index: HashMap<String, usize> = HashMap::new();
-    for p in &plan.points {
-        let k = scene_key(&p.scene);
-        let i = *index.entry(k.clone()).or_insert_with(|| {
-            keys.push(k);
-            keys.len() - 1
+    let mut first_of: Vec<usize> = Vec::new();
+    let mut index: HashMap<&str, usize> = HashMap::new();
+    for (i, p) in plan.points.iter().enumerate() {
+        let u = *index.entry(p.key.as_str()).or_insert_with(|| {
+            first_of.push(i);
+            first_of.len() - 1
         });
-        slot.push(i);
+        slot.push(u);
     }
-    let first_of: Vec<usize> = (0..keys.len())
-        .map(|u| {
-            slot.iter()
-                .position(|&s| s == u)
-                .expect("every key has a point")
-        })
-        .collect();
-    let bar = ProgressBar::new(keys.len() as u64);
+    let distinct = first_of.len();
+    let bar = ProgressBar::new(distinct as u64);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {msg}")
             .expect("static template"),
     );
     let started = Instant::now();
     let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Ran>>> = Mutex::new((0..keys.len()).map(|_| None).collect());
+    let results: Mutex<Vec<Option<Ran>>> = Mutex::new((0..distinct).map(|_| None).collect());
     std::thread::scope(|s| {
-        for _ in 0..workers.max(1).min(keys.len()) {
+        for _ in 0..workers.max(1).min(distinct) {
             s.spawn(|| loop {
                 let u = next.fetch_add(1, Ordering::Relaxed);
                 let Some(&i) = first_of.get(u) else { break };
@@ -182,7 +175,7 @@ pub fn run_request(
                 };
                 bar.println(&line);
                 if bar.is_hidden() {
-                    eprintln!("[{}/{}] {line}", u + 1, keys.len());
+                    eprintln!("[{}/{}] {line}", u + 1, distinct);
                 }
                 bar.inc(1);
                 results.lock().expect("no worker panics while holding it")[u] = Some(ran);
@@ -191,7 +184,7 @@ pub fn run_request(
     });
     bar.finish_and_clear();
     let elapsed = started.elapsed().as_secs_f64();
-    let mut results = results.into_inner().expect("workers joined");
+    let results = results.into_inner().expect("workers joined");
     let rows: Vec<StudyTableRow> = plan
         .points
         .iter()
@@ -220,16 +213,11 @@ pub fn run_request(
         "table.json",
         &serde_json::to_string_pretty(&table).map_err(|e| e.to_string())?,
     )?;
-    let mut spectra: HashMap<usize, PointSpectrum> = HashMap::new();
-    for r in &table.rows {
-        if let Some(Some(s)) = results
-            .get_mut(slot[r.index])
-            .map(|x| x.as_ref().and_then(|r| r.spectrum.clone()))
-        {
-            spectra.insert(r.index, s);
-        }
-    }
-    let mut lookup = |r: &StudyTableRow| spectra.get(&r.index).cloned();
+    let mut lookup = |r: &StudyTableRow| {
+        results[slot[r.index]]
+            .as_ref()
+            .and_then(|ran| ran.spectrum.clone())
+    };
     for name in plot_names(&plan.design, row_keys(&table.rows)) {
         match draw(&plan.name, &plan.design, &table.rows, &name, &mut lookup) {
             Some(Ok(svg)) => write(&name, &svg)?,
@@ -237,7 +225,7 @@ pub fn run_request(
             None => {}
         }
     }
-    print_summary(&table, elapsed, keys.len());
+    print_summary(&table, elapsed, distinct);
     Ok(())
 }
 

@@ -3,6 +3,7 @@
 //! (`design.factors[0].pointer`, `points[3].scene.operating.axial_load`).
 
 use super::request::{DesignSpec, FactorSpec, NamedDesign, StudyBase, StudyRequest};
+use super::scene_key::scene_key;
 use crate::json_doc::{merge_patch, set_at_pointer};
 use bearing_core::scene::{
     fault_case_scene, preset_names, Fault, FaultCase, Ring, Scene, ValidScene,
@@ -81,6 +82,8 @@ pub struct PointSpec {
 pub struct PlannedPoint {
     pub spec: PointSpec,
     pub scene: ValidScene,
+    /// [`super::scene_key::scene_key`] of the scene: identical points share a run by it.
+    pub key: String,
 }
 
 /// The expanded study.
@@ -127,15 +130,6 @@ pub fn plan(req: &StudyRequest) -> Result<Plan, Vec<PlanProblem>> {
     if drafts.is_empty() {
         return Err(vec![problem("design", "the design has no points")]);
     }
-    if drafts.len() > MAX_POINTS {
-        return Err(vec![problem(
-            "design",
-            format!(
-                "{} points: a study holds at most {MAX_POINTS}",
-                drafts.len()
-            ),
-        )]);
-    }
     let mut points = Vec::with_capacity(drafts.len());
     for (i, mut d) in drafts.into_iter().enumerate() {
         let case = d.spec.fault_case.or(base_case);
@@ -148,6 +142,7 @@ pub fn plan(req: &StudyRequest) -> Result<Plan, Vec<PlanProblem>> {
                 d.spec.duration = scene.solver.duration;
                 points.push(PlannedPoint {
                     spec: d.spec,
+                    key: scene_key(&scene),
                     scene,
                 });
             }
@@ -333,6 +328,18 @@ fn unit_of(pointer: &str) -> Option<&'static str> {
     })
 }
 
+/// Whether a design of `total` points fits a study; a problem if not. Checked before the
+/// points are built (a grid's product can be huge). The named designs are fixed and small.
+fn fits(total: usize, problems: &mut Vec<PlanProblem>) -> bool {
+    if total > MAX_POINTS {
+        problems.push(problem(
+            "design",
+            format!("{total} points: a study holds at most {MAX_POINTS}"),
+        ));
+    }
+    total <= MAX_POINTS
+}
+
 /// Check the factors and name them.
 fn factor_infos(factors: &[FactorSpec], problems: &mut Vec<PlanProblem>) -> Vec<FactorInfo> {
     let mut infos: Vec<FactorInfo> = Vec::new();
@@ -438,13 +445,13 @@ fn grid(
             "a grid needs at least one factor or fault case",
         ));
     }
-    let total: usize = factors
+    // saturating: a product of many factors must not wrap below the limit
+    let total = factors
         .iter()
         .map(|f| f.values.len().max(1))
-        .product::<usize>()
-        * fault_cases.len().max(1);
+        .fold(fault_cases.len().max(1), usize::saturating_mul);
     let mut drafts = Vec::new();
-    if problems.is_empty() && total <= MAX_POINTS {
+    if fits(total, problems) && problems.is_empty() {
         for case in cases(fault_cases) {
             let mut combos: Vec<Vec<usize>> = vec![vec![]];
             for f in factors {
@@ -482,11 +489,6 @@ fn grid(
                 });
             }
         }
-    } else if total > MAX_POINTS {
-        problems.push(problem(
-            "design",
-            format!("{total} points: a study holds at most {MAX_POINTS}"),
-        ));
     }
     let lines = factors.len() == 1;
     (
@@ -513,12 +515,7 @@ fn one_at_a_time(
     let total: usize =
         factors.iter().map(|f| f.values.len()).sum::<usize>() * fault_cases.len().max(1);
     let mut drafts = Vec::new();
-    if total > MAX_POINTS {
-        problems.push(problem(
-            "design",
-            format!("{total} points: a study holds at most {MAX_POINTS}"),
-        ));
-    } else if problems.is_empty() {
+    if fits(total, problems) && problems.is_empty() {
         let at_base = base_factor_values(req, &infos);
         for case in cases(fault_cases) {
             for (f, info) in factors.iter().zip(&infos) {
@@ -754,6 +751,25 @@ mod tests {
             .points
             .iter()
             .all(|q| q.spec.duration == 0.05 && q.scene.operating.speed.ramp_time == 0.0));
+    }
+
+    #[test]
+    fn a_design_over_the_limit_is_refused_before_its_points_are_built() {
+        // 40 factors of 10 values: 1e40 points, beyond usize; the count saturates
+        let factors: Vec<Value> = (0..40)
+            .map(|_| json!({"pointer": "/operating/axial_load", "values": [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0]}))
+            .enumerate()
+            .map(|(i, mut f)| {
+                f["name"] = json!(format!("f{i}"));
+                f
+            })
+            .collect();
+        let e = plan(&request(json!({"base": {"preset": "h7005c"},
+            "design": {"type": "grid", "factors": factors}})))
+        .unwrap_err();
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert_eq!(e[0].path, "design");
+        assert!(e[0].message.contains("at most 500"), "{e:?}");
     }
 
     #[test]
