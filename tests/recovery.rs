@@ -62,20 +62,14 @@ async fn a_study_survives_sigkill_and_completes_after_restart() {
     s.kill();
 
     let s = Server::start(&db, &args);
-    let start = std::time::Instant::now();
-    let done = loop {
-        let (status, _, st) = get_json(&c, &s.url(&format!("/v1/studies/{id}"))).await;
-        assert_eq!(status, 200, "{st}");
-        if st["state"] != "running" && st["state"] != "queued" {
-            break st;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(300),
-            "{st}\n{}",
-            s.log()
-        );
-        tokio::time::sleep(Duration::from_millis(200)).await;
-    };
+    let done = wait_for(
+        &c,
+        &s,
+        &format!("/v1/studies/{id}"),
+        Duration::from_secs(300),
+        |st| st["state"] != "running" && st["state"] != "queued",
+    )
+    .await;
     assert_eq!(done["state"], "succeeded", "{done}\n{}", s.log());
     assert_eq!(done["progress"]["points_succeeded"], 2);
     let (_, _, job) = get_json(&c, &s.url(&format!("/v1/simulations/{first_job}"))).await;

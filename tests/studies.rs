@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use serde_json::{json, Value};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// Outer fault at three axial loads, two of them equal (the preset's Table-1 speed ramp;
 /// 30 ms simulated gives a 22.5 ms steady window, 15 ms of analysis).
@@ -26,20 +26,7 @@ async fn wait_study(
     timeout: Duration,
     pred: impl Fn(&Value) -> bool,
 ) -> Value {
-    let start = Instant::now();
-    loop {
-        let (status, _, st) = get_json(c, &s.url(&format!("/v1/studies/{id}"))).await;
-        assert_eq!(status, 200, "{st}");
-        if pred(&st) {
-            return st;
-        }
-        assert!(
-            start.elapsed() < timeout,
-            "study {id} not there within {timeout:?}: {st}\n{}",
-            s.log()
-        );
-        tokio::time::sleep(Duration::from_millis(100)).await;
-    }
+    wait_for(c, s, &format!("/v1/studies/{id}"), timeout, pred).await
 }
 
 fn finished(st: &Value) -> bool {

@@ -3,6 +3,7 @@
 
 use super::problem::{ApiResult, Problem};
 use super::results::record;
+use super::submission::Fnv1a;
 use crate::jobs::record::SimulationRecord;
 use crate::store::{JobError, JobState, Study, StudyPointRow};
 use crate::studies::charts::plot_names;
@@ -119,20 +120,14 @@ pub fn spec_of(study: &Study, p: &StudyPointRow) -> ApiResult<PointSpec> {
 
 /// Strong ETag over the study's own version and every point's job version.
 pub fn study_etag(study: &Study) -> String {
-    // FNV-1a over the versions: any point's change changes the tag
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |x: i64| {
-        for b in x.to_le_bytes() {
-            h ^= b as u64;
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
-    };
-    eat(study.version);
+    // any point's change changes the tag
+    let mut h = Fnv1a::default();
+    h.write(&study.version.to_le_bytes());
     for p in &study.points {
-        eat(p.job.seq);
-        eat(p.job.version);
+        h.write(&p.job.seq.to_le_bytes());
+        h.write(&p.job.version.to_le_bytes());
     }
-    format!("\"{}-{h:016x}\"", &study.id[..study.id.len().min(8)])
+    format!("\"{}-{:016x}\"", &study.id[..study.id.len().min(8)], h.0)
 }
 
 pub fn study_state(study: &Study) -> StudyState {

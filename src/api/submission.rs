@@ -57,8 +57,9 @@ pub async fn enqueue(
     }
 }
 
-/// FNV-1a, 64 bit: a stable fingerprint of a request (not a security boundary).
-struct Fnv1a(u64);
+/// FNV-1a, 64 bit: a stable fingerprint of a request or a study's versions (not a
+/// security boundary).
+pub struct Fnv1a(pub u64);
 
 impl Default for Fnv1a {
     fn default() -> Self {
@@ -67,7 +68,7 @@ impl Default for Fnv1a {
 }
 
 impl Fnv1a {
-    fn write(&mut self, bytes: &[u8]) {
+    pub fn write(&mut self, bytes: &[u8]) {
         for b in bytes {
             self.0 ^= *b as u64;
             self.0 = self.0.wrapping_mul(0x0100_0000_01b3);

@@ -279,7 +279,11 @@ pub fn to_csv(table: &StudyTable) -> String {
                     num(p.wall_time),
                 ]);
             }
-            None => cells.extend(std::iter::repeat_n(String::new(), 2 + 26 + 6)),
+            // shaft and df, both lines' columns, the cage's five and the wall time
+            None => cells.extend(std::iter::repeat_n(
+                String::new(),
+                2 + 2 * LINE_COLUMNS.len() + 6,
+            )),
         }
         cells.push(csv_field(r.error.as_deref().unwrap_or("")));
         let _ = writeln!(out, "{}", cells.join(","));

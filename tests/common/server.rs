@@ -170,15 +170,27 @@ pub async fn wait_until(
     timeout: Duration,
     pred: impl Fn(&Value) -> bool,
 ) -> Value {
+    wait_for(c, s, &format!("/v1/simulations/{id}"), timeout, pred).await
+}
+
+/// Poll a resource (a job or a study) until `pred` holds, panicking with the last answer
+/// after `timeout`.
+pub async fn wait_for(
+    c: &reqwest::Client,
+    s: &impl Service,
+    path: &str,
+    timeout: Duration,
+    pred: impl Fn(&Value) -> bool,
+) -> Value {
     let start = Instant::now();
     loop {
-        let (status, _, job) = get_json(c, &s.url(&format!("/v1/simulations/{id}"))).await;
-        assert_eq!(status, 200, "{job}");
-        if pred(&job) {
-            return job;
+        let (status, _, body) = get_json(c, &s.url(path)).await;
+        assert_eq!(status, 200, "{body}");
+        if pred(&body) {
+            return body;
         }
         if start.elapsed() > timeout {
-            panic!("job {id} did not reach the expected state within {timeout:?}: {job}\nserver log:\n{}", s.log());
+            panic!("{path} did not reach the expected state within {timeout:?}: {body}\nserver log:\n{}", s.log());
         }
         tokio::time::sleep(Duration::from_millis(50)).await;
     }
