@@ -2,6 +2,7 @@
 //! and the raw signal's kurtosis as a reference line.
 
 use super::error::PlotError;
+use super::style::{draw_legend, BLUE, RED};
 use plotters::prelude::*;
 
 /// 800 x 400 px. `levels[k]` is level `k + 1`; `best` is 1-based.
@@ -45,8 +46,7 @@ pub fn kurtosis_svg(
             .label_style(("sans-serif", 13))
             .draw()
             .map_err(PlotError::from_display)?;
-        let plain = RGBColor(31, 119, 180);
-        let chosen = RGBColor(214, 39, 40);
+        let (plain, chosen) = (BLUE, RED);
         chart
             .draw_series(
                 levels
@@ -72,14 +72,7 @@ pub fn kurtosis_svg(
                 .label(format!("raw signal kurtosis ({raw:.2})"))
                 .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK));
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(PlotError::from_display)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
         root.present().map_err(PlotError::from_display)?;
     }
     Ok(svg)

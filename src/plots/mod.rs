@@ -4,6 +4,7 @@ pub mod error;
 pub mod kurtosis;
 pub mod signal;
 pub mod spectrum;
+pub mod style;
 pub mod trend;
 
 pub use error::PlotError;

@@ -2,6 +2,7 @@
 //! any decimation.
 
 use super::error::PlotError;
+use super::style::BLUE;
 use plotters::prelude::*;
 
 /// Samples `x[k]` at `start_time + k / sample_rate`.
@@ -61,7 +62,7 @@ pub fn signal_svg(trace: &SignalTrace<'_>) -> Result<String, PlotError> {
             .draw()
             .map_err(PlotError::from_display)?;
         chart
-            .draw_series(LineSeries::new(pts, RGBColor(31, 119, 180).stroke_width(1)))
+            .draw_series(LineSeries::new(pts, BLUE.stroke_width(1)))
             .map_err(PlotError::from_display)?;
         root.present().map_err(PlotError::from_display)?;
     }

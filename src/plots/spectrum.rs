@@ -2,6 +2,7 @@
 //! simulation's), or a grid of small ones (a fault-size study, as the paper's Figure 17).
 
 use super::error::PlotError;
+use super::style::{draw_legend, MARKER_COLORS};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -25,14 +26,6 @@ pub struct SpectrumPanel {
     pub amplitude: Vec<f64>,
     pub markers: Vec<Marker>,
 }
-
-const MARKER_COLORS: [RGBColor; 5] = [
-    RGBColor(214, 39, 40),
-    RGBColor(31, 119, 180),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-];
 
 /// Bins from 0 to `max_hz` (the DC bin left out: the envelope's mean dwarfs the lines).
 fn visible(p: &SpectrumPanel, max_hz: f64) -> Vec<(f64, f64)> {
@@ -107,14 +100,7 @@ fn draw_panel(
             .map_err(PlotError::from_display)?;
     }
     if legend && !labelled.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", font))
-            .draw()
-            .map_err(PlotError::from_display)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, font)?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! the left axis, their error in % on the right axis, against one operating factor.
 
 use super::error::PlotError;
+use super::style::{draw_legend, SERIES_COLORS};
 use plotters::prelude::*;
 
 /// One curve of a trend chart.
@@ -14,15 +15,6 @@ pub struct TrendSeries {
     /// Drawn against the right (error %) axis instead of the left (Hz) one.
     pub on_error_axis: bool,
 }
-
-const COLORS: [RGBColor; 6] = [
-    RGBColor(0, 0, 0),
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-];
 
 fn range(values: impl Iterator<Item = f64>, include_zero: bool) -> std::ops::Range<f64> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -87,7 +79,7 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
             .draw()
             .map_err(PlotError::from_display)?;
         for (i, s) in series.iter().filter(finite).enumerate() {
-            let color = COLORS[i % COLORS.len()];
+            let color = SERIES_COLORS[i % SERIES_COLORS.len()];
             let pts: Vec<(f64, f64)> = s
                 .points
                 .iter()
@@ -133,14 +125,7 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
                     .map_err(PlotError::from_display)?;
             }
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 13))
-            .draw()
-            .map_err(PlotError::from_display)?;
+        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 13)?;
         root.present().map_err(PlotError::from_display)?;
     }
     Ok(svg)
