@@ -31,13 +31,7 @@ fn sweep(case: FaultCase, inner: bool) -> Vec<(f64, f64, f64)> {
     for k in -60..=60 {
         // ring spun by phi puts the defect at azimuth phi; the ball sits at -phi relative
         let phi = -(k as f64) / 40.0 * half;
-        let ring = RingMotion {
-            centre,
-            rot: Matrix3::identity(),
-            velocity: Vector3::zeros(),
-            spin: 0.0,
-            spin_angle: phi,
-        };
+        let ring = RingMotion::new(centre, Matrix3::identity(), Vector3::zeros(), 0.0, phi);
         let c = race_contact(race, &ring, &ball, &m.contact);
         // tangential direction at azimuth 0 is e_t = (0, -1, 0)
         out.push((-phi * race.path_radius, c.load, -c.force_on_ball.y));

@@ -8,7 +8,7 @@ use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion};
 use crate::physics::drag::cage_windage_torque;
-use crate::physics::frames::{e_r, e_t, from_azimuth, tilt_matrix, to_azimuth};
+use crate::physics::frames::{tilt_matrix, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
 use nalgebra::{Matrix3, Vector3};
 
@@ -47,38 +47,39 @@ pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
     let l: &Layout = &m.layout;
     let i = l.inner;
     let o = l.outer;
-    let inner = RingMotion {
-        centre: Vector3::new(y[i], y[i + 1], y[i + 2]),
-        rot: if m.tilt_free {
+    let inner = RingMotion::new(
+        Vector3::new(y[i], y[i + 1], y[i + 2]),
+        if m.tilt_free {
             tilt_matrix(y[i + 3], y[i + 4])
         } else {
             Matrix3::identity()
         },
-        velocity: Vector3::new(y[i + 5], y[i + 6], y[i + 7]),
-        spin: m.shaft_speed(t),
-        spin_angle: m.shaft_angle(t),
-    };
-    let outer = RingMotion {
-        centre: Vector3::new(0.0, y[o], y[o + 1]),
-        rot: Matrix3::identity(),
-        velocity: Vector3::new(0.0, y[o + 2], y[o + 3]),
-        spin: 0.0,
-        spin_angle: 0.0,
-    };
+        Vector3::new(y[i + 5], y[i + 6], y[i + 7]),
+        m.shaft_speed(t),
+        m.shaft_angle(t),
+    );
+    let outer = RingMotion::new(
+        Vector3::new(0.0, y[o], y[o + 1]),
+        Matrix3::identity(),
+        Vector3::new(0.0, y[o + 2], y[o + 3]),
+        0.0,
+        0.0,
+    );
     (inner, outer)
 }
 
-/// Ball centre, velocity and angular velocity in inertial coordinates.
+/// Ball centre, velocity and angular velocity in inertial coordinates; `az` is the
+/// ball's azimuth `y[b + 2]`.
 #[inline]
-pub fn ball_motion(y: &[f64], b: usize) -> BallMotion {
-    let (x, r, th) = (y[b], y[b + 1], y[b + 2]);
+pub fn ball_motion(y: &[f64], b: usize, az: &Azimuth) -> BallMotion {
+    let (x, r) = (y[b], y[b + 1]);
     let (xd, rd, thd) = (y[b + 3], y[b + 4], y[b + 5]);
-    let er = e_r(th);
-    let et = e_t(th);
+    let er = az.e_r();
+    let et = az.e_t();
     BallMotion {
         centre: Vector3::new(x, 0.0, 0.0) + r * er,
         velocity: Vector3::new(xd, 0.0, 0.0) + rd * er + r * thd * et,
-        omega: from_azimuth(&Vector3::new(y[b + 6], y[b + 7], y[b + 8]), th),
+        omega: az.from_frame(&Vector3::new(y[b + 6], y[b + 7], y[b + 8])),
     }
 }
 
@@ -100,6 +101,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     let l = &m.layout;
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_motion(m, y);
+    let cage_az = Azimuth::new(cage.spin_angle);
     let mut f_inner = Vector3::zeros();
     let mut m_inner = Vector3::zeros();
     let mut f_outer = Vector3::zeros();
@@ -110,13 +112,14 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
 
     for j in 0..m.z {
         let b = l.ball(j);
-        let ball = ball_motion(y, b);
+        let az = Azimuth::new(y[b + 2]);
+        let ball = ball_motion(y, b, &az);
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
         let pc = pocket_contact(
             &m.pocket,
             &cage,
-            m.pocket_angles[j],
+            &cage_az.plus(&m.pocket_azimuths[j]),
             &ball.centre,
             &ball.velocity,
             &ball.omega,
@@ -133,10 +136,9 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         f_cage += pc.force_on_cage;
         m_cage += pc.moment_on_cage;
 
-        let th = y[b + 2];
         let (r, rd, thd) = (y[b + 1], y[b + 4], y[b + 5]);
-        let fa = to_azimuth(&f, th);
-        let ma = to_azimuth(&mo, th);
+        let fa = az.to_frame(&f);
+        let ma = az.to_frame(&mo);
         dy[b] = y[b + 3];
         dy[b + 1] = rd;
         dy[b + 2] = thd;
@@ -154,8 +156,8 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         if let Some(d) = diag.as_deref_mut() {
             d.inner_load[j] = ci.load;
             d.outer_load[j] = co.load;
-            d.inner_alpha[j] = ci.alpha;
-            d.outer_alpha[j] = co.alpha;
+            d.inner_alpha[j] = ci.alpha.angle();
+            d.outer_alpha[j] = co.alpha.angle();
         }
     }
 

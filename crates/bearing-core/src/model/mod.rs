@@ -7,6 +7,7 @@ use crate::physics::cage_land::LandParams;
 use crate::physics::cage_pocket::PocketParams;
 use crate::physics::defect::RaceDefect;
 use crate::physics::drag::{BallDrag, CavityMedium};
+use crate::physics::frames::Azimuth;
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race, Strips};
 use crate::physics::rolling_resistance::RollingResistance;
@@ -58,6 +59,8 @@ pub struct Model {
     pub speed: (f64, f64, f64),
     /// Positions of the pockets in the cage frame, rad.
     pub pocket_angles: Vec<f64>,
+    /// The same as sines and cosines.
+    pub pocket_azimuths: Vec<Azimuth>,
     /// Drag of the cavity medium on each ball; None without cavity drag.
     pub ball_drag: Option<BallDrag>,
     /// The cavity medium acting on the cage faces; None without cavity drag.
@@ -146,12 +149,7 @@ impl Model {
                     .faults
                     .iter()
                     .filter(|fault| fault.ring == ring)
-                    .map(|fault| RaceDefect {
-                        angle: fault.angle,
-                        half_angle: 0.5 * fault.width / path,
-                        width: fault.width,
-                        depth: fault.depth,
-                    })
+                    .map(|fault| RaceDefect::new(fault.angle, fault.width, fault.depth, path))
                     .collect(),
             }
         };
@@ -279,6 +277,9 @@ impl Model {
             cage_inertia,
             speed,
             pocket_angles: (0..z).map(|j| 2.0 * PI * j as f64 / z as f64).collect(),
+            pocket_azimuths: (0..z)
+                .map(|j| Azimuth::new(2.0 * PI * j as f64 / z as f64))
+                .collect(),
             ball_drag: medium.map(|medium| BallDrag { medium, radius: rb }),
             cage_windage: medium,
             cage_radii: [ro, ri],

@@ -6,6 +6,7 @@
 //! Coulomb friction. The squeeze term keeps acting with `h` held at the critical film, so
 //! the force is continuous across the switch.
 
+use super::frames::Azimuth;
 use super::hertz::HertzContact;
 use nalgebra::{Matrix3, Vector3};
 use std::f64::consts::PI;
@@ -63,19 +64,18 @@ pub struct PocketResult {
 /// Slip speed below which Coulomb friction is scaled down linearly, m/s.
 const FRICTION_REGULARIZATION: f64 = 1e-2;
 
-/// Interaction of a ball with pocket `k` at body angle `pocket_angle`.
+/// Interaction of a ball with the pocket at inertial azimuth `pocket` (the cage's spin
+/// angle plus the pocket's body angle).
 #[inline]
 pub fn pocket_contact(
     p: &PocketParams,
     cage: &CageMotion,
-    pocket_angle: f64,
+    pocket: &Azimuth,
     ball_centre: &Vector3<f64>,
     ball_velocity: &Vector3<f64>,
     ball_omega: &Vector3<f64>,
 ) -> PocketResult {
-    let th = cage.spin_angle + pocket_angle;
-    let (s, c) = th.sin_cos();
-    let axis = cage.rot * Vector3::new(0.0, -s, c);
+    let axis = cage.rot * pocket.e_r();
     let centre = cage.centre + p.pocket_radius * axis;
     // eq. 19: ball relative to the pocket; only the part across the pocket axis matters
     let w = ball_centre - centre;
@@ -175,15 +175,22 @@ mod tests {
     fn centred_ball_feels_nothing_and_radial_motion_changes_no_film() {
         let p = params();
         let z = Vector3::zeros();
-        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(z), &z, &z);
+        let r = pocket_contact(&p, &cage_at_rest(), &Azimuth::new(0.0), &ball_at(z), &z, &z);
         assert_eq!(r.normal, 0.0);
         // moving along the pocket axis (the bearing's radial direction) keeps the film
         let off = Vector3::new(0.0, 50e-6, 0.0);
-        let a = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &z, &z);
+        let a = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            &Azimuth::new(0.0),
+            &ball_at(off),
+            &z,
+            &z,
+        );
         let b = pocket_contact(
             &p,
             &cage_at_rest(),
-            0.0,
+            &Azimuth::new(0.0),
             &ball_at(off + Vector3::new(0.0, 0.0, 0.3e-3)),
             &z,
             &z,
@@ -198,7 +205,14 @@ mod tests {
         let p = params();
         let z = Vector3::zeros();
         let off = Vector3::new(0.0, p.clearance - p.critical_film + 1e-6, 0.0);
-        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &z, &z);
+        let r = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            &Azimuth::new(0.0),
+            &ball_at(off),
+            &z,
+            &z,
+        );
         assert!((r.normal - 1.0).abs() < 1e-9, "{}", r.normal);
         // on the ball towards the pocket axis (-Y), the opposite on the cage
         assert!((r.force_on_ball - Vector3::new(0.0, -1.0, 0.0)).norm() < 1e-9);
@@ -218,7 +232,14 @@ mod tests {
         let h = 20e-6;
         let off = Vector3::new(0.0, p.clearance - h, 0.0);
         let v = Vector3::new(0.0, 0.1, 0.0);
-        let r = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &v, &z);
+        let r = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            &Azimuth::new(0.0),
+            &ball_at(off),
+            &v,
+            &z,
+        );
         let expect = 6.0 * PI * p.viscosity * p.ball_radius.powi(2) * 0.1 / h;
         assert!(
             (r.normal - expect).abs() < 1e-12 * expect,
@@ -226,7 +247,14 @@ mod tests {
             r.normal
         );
         assert!(r.force_on_ball.y < 0.0);
-        let away = pocket_contact(&p, &cage_at_rest(), 0.0, &ball_at(off), &(-v), &z);
+        let away = pocket_contact(
+            &p,
+            &cage_at_rest(),
+            &Azimuth::new(0.0),
+            &ball_at(off),
+            &(-v),
+            &z,
+        );
         assert_eq!(away.normal, 0.0);
     }
 
@@ -240,7 +268,7 @@ mod tests {
         let r = pocket_contact(
             &p,
             &cage_at_rest(),
-            0.0,
+            &Azimuth::new(0.0),
             &ball_at(off),
             &Vector3::zeros(),
             &w,

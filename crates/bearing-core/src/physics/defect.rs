@@ -10,6 +10,8 @@
 //! edge, the contact load points from the edge to the ball centre: it is tilted in the
 //! rolling plane by `psi`, `sin(psi) = d / r_ball` (eq. 36).
 
+use super::frames::Azimuth;
+
 /// A defect on one raceway, in that ring's body frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RaceDefect {
@@ -21,6 +23,26 @@ pub struct RaceDefect {
     pub width: f64,
     /// Depth, m.
     pub depth: f64,
+    /// `angle` as sine and cosine, and the cosine of `half_angle`: a ball is over the
+    /// defect when the cosine of its distance exceeds it, so the test needs no atan2.
+    pub azimuth: Azimuth,
+    pub cos_half: f64,
+}
+
+impl RaceDefect {
+    /// A defect centred at `angle` (rad) of `width` and `depth` (m) on a contact path of
+    /// radius `path_radius` (m).
+    pub fn new(angle: f64, width: f64, depth: f64, path_radius: f64) -> RaceDefect {
+        let half_angle = 0.5 * width / path_radius;
+        RaceDefect {
+            angle,
+            half_angle,
+            width,
+            depth,
+            azimuth: Azimuth::new(angle),
+            cos_half: half_angle.cos(),
+        }
+    }
 }
 
 /// Effect of a defect on one contact.
@@ -72,20 +94,22 @@ pub fn defect_effect(s: f64, width: f64, depth: f64, rx: f64, ball_radius: f64) 
     }
 }
 
-/// Combined effect of every defect of a race on a ball at ring-frame azimuth
-/// `theta_body` (already relative to the ring's spin), contact-path radius `r_path`.
+/// Combined effect of every defect of a race on a ball at ring-frame azimuth `body`
+/// (already relative to the ring's spin), contact-path radius `r_path`.
 #[inline]
 pub fn race_defects_effect(
     defects: &[RaceDefect],
-    theta_body: f64,
+    body: &Azimuth,
     r_path: f64,
     rx: f64,
     ball_radius: f64,
 ) -> DefectEffect {
     let mut out = DefectEffect::default();
     for d in defects {
-        let dtheta = wrap_angle(theta_body - d.angle);
-        if dtheta.abs() < d.half_angle {
+        let rel = body.minus(&d.azimuth);
+        // |distance| < half angle (< pi/2 for any defect a ball fits in)
+        if rel.cos > d.cos_half {
+            let dtheta = rel.angle();
             let e = defect_effect(dtheta * r_path, d.width, d.depth, rx, ball_radius);
             if e.drop > out.drop {
                 out = e;

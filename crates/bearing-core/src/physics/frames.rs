@@ -25,18 +25,89 @@ pub fn cardan(eta: f64, xi: f64, lambda: f64) -> Matrix3<f64> {
     )
 }
 
+/// An azimuth by its sine and cosine: one `sin_cos` serves every frame operation at that
+/// azimuth, and sums of azimuths need none (angle addition).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Azimuth {
+    pub sin: f64,
+    pub cos: f64,
+}
+
+impl Default for Azimuth {
+    /// Azimuth zero.
+    fn default() -> Azimuth {
+        Azimuth { sin: 0.0, cos: 1.0 }
+    }
+}
+
+impl Azimuth {
+    #[inline]
+    pub fn new(theta: f64) -> Azimuth {
+        let (sin, cos) = theta.sin_cos();
+        Azimuth { sin, cos }
+    }
+
+    /// The azimuth `self + other`.
+    #[inline]
+    pub fn plus(&self, other: &Azimuth) -> Azimuth {
+        Azimuth {
+            sin: self.sin * other.cos + self.cos * other.sin,
+            cos: self.cos * other.cos - self.sin * other.sin,
+        }
+    }
+
+    /// The azimuth `self - other`.
+    #[inline]
+    pub fn minus(&self, other: &Azimuth) -> Azimuth {
+        Azimuth {
+            sin: self.sin * other.cos - self.cos * other.sin,
+            cos: self.cos * other.cos + self.sin * other.sin,
+        }
+    }
+
+    /// The angle in (-pi, pi], rad.
+    #[inline]
+    pub fn angle(&self) -> f64 {
+        self.sin.atan2(self.cos)
+    }
+
+    /// Radial unit vector: `(0, -sin, cos)`.
+    #[inline]
+    pub fn e_r(&self) -> Vector3<f64> {
+        Vector3::new(0.0, -self.sin, self.cos)
+    }
+
+    /// Tangential unit vector (direction of increasing azimuth): `(0, -cos, -sin)`.
+    #[inline]
+    pub fn e_t(&self) -> Vector3<f64> {
+        Vector3::new(0.0, -self.cos, -self.sin)
+    }
+
+    /// Inertial vector in azimuth-frame components `[x, r, t]`.
+    #[inline]
+    pub fn to_frame(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        let (s, c) = (self.sin, self.cos);
+        Vector3::new(v.x, -s * v.y + c * v.z, -c * v.y - s * v.z)
+    }
+
+    /// Inertial vector from azimuth-frame components `[x, r, t]`.
+    #[inline]
+    pub fn from_frame(&self, a: &Vector3<f64>) -> Vector3<f64> {
+        let (s, c) = (self.sin, self.cos);
+        Vector3::new(a.x, -s * a.y - c * a.z, c * a.y - s * a.z)
+    }
+}
+
 /// Radial unit vector at azimuth `theta`: `(0, -sin, cos)`.
 #[inline]
 pub fn e_r(theta: f64) -> Vector3<f64> {
-    let (s, c) = theta.sin_cos();
-    Vector3::new(0.0, -s, c)
+    Azimuth::new(theta).e_r()
 }
 
 /// Tangential unit vector at azimuth `theta` (direction of increasing theta): `(0, -cos, -sin)`.
 #[inline]
 pub fn e_t(theta: f64) -> Vector3<f64> {
-    let (s, c) = theta.sin_cos();
-    Vector3::new(0.0, -c, -s)
+    Azimuth::new(theta).e_t()
 }
 
 /// Azimuth of a point, eq. 3: `atan2(-y, z)`.
@@ -48,15 +119,13 @@ pub fn azimuth(p: &Vector3<f64>) -> f64 {
 /// Components of an inertial vector in the azimuth frame `[x, r, t]`.
 #[inline]
 pub fn to_azimuth(v: &Vector3<f64>, theta: f64) -> Vector3<f64> {
-    let (s, c) = theta.sin_cos();
-    Vector3::new(v.x, -s * v.y + c * v.z, -c * v.y - s * v.z)
+    Azimuth::new(theta).to_frame(v)
 }
 
 /// Inertial vector from azimuth-frame components `[x, r, t]`.
 #[inline]
 pub fn from_azimuth(a: &Vector3<f64>, theta: f64) -> Vector3<f64> {
-    let (s, c) = theta.sin_cos();
-    Vector3::new(a.x, -s * a.y - c * a.z, c * a.y - s * a.z)
+    Azimuth::new(theta).from_frame(a)
 }
 
 /// Small-angle rotation of a ring tilted by `beta_y` about Y and `beta_z` about Z
@@ -89,5 +158,17 @@ mod tests {
         let v = Vector3::new(0.3, -1.2, 2.5);
         assert!((from_azimuth(&to_azimuth(&v, th), th) - v).norm() < 1e-14);
         assert!((azimuth(&(e_r(th) * 3.0)) - th).abs() < 1e-14);
+    }
+
+    #[test]
+    fn azimuth_sums_and_differences_match_the_angles() {
+        let (a, b) = (Azimuth::new(2.9), Azimuth::new(-1.3));
+        // angle addition is exact up to a few roundings
+        assert!((a.plus(&b).angle() - (2.9 - 1.3)).abs() < 1e-15);
+        let d = a.minus(&b).angle();
+        assert!(
+            (d - (2.9 + 1.3 - std::f64::consts::TAU)).abs() < 1e-14,
+            "{d}"
+        );
     }
 }

@@ -2,6 +2,7 @@
 //! over the contact ellipse (eqs. 9-18) and the defect modification (eqs. 34-36).
 
 use super::defect::{race_defects_effect, RaceDefect};
+use super::frames::Azimuth;
 use super::hertz::HertzContact;
 use super::rolling_resistance::RollingResistance;
 use super::traction::{film_mu_over_s, ContactTraction, TractionLaw};
@@ -49,6 +50,27 @@ pub struct RingMotion {
     pub spin: f64,
     /// Spin angle (for defect positions), rad.
     pub spin_angle: f64,
+    /// The spin angle as sine and cosine.
+    pub spin_azimuth: Azimuth,
+}
+
+impl RingMotion {
+    pub fn new(
+        centre: Vector3<f64>,
+        rot: Matrix3<f64>,
+        velocity: Vector3<f64>,
+        spin: f64,
+        spin_angle: f64,
+    ) -> RingMotion {
+        RingMotion {
+            centre,
+            rot,
+            velocity,
+            spin,
+            spin_angle,
+            spin_azimuth: Azimuth::new(spin_angle),
+        }
+    }
 }
 
 /// Motion of a ball.
@@ -115,10 +137,10 @@ pub struct ContactResult {
     pub delta: f64,
     /// Normal load, N.
     pub load: f64,
-    /// Contact angle, rad (eq. 5).
-    pub alpha: f64,
-    /// Ball azimuth in the ring's tilt frame, rad (eq. 3).
-    pub azimuth: f64,
+    /// Contact angle (eq. 5) as sine and cosine.
+    pub alpha: Azimuth,
+    /// Ball azimuth in the ring's tilt frame (eq. 3) as sine and cosine.
+    pub azimuth: Azimuth,
     /// Defect drop applied, m.
     pub defect_drop: f64,
     /// Load direction tilt at a defect edge, rad.
@@ -133,6 +155,22 @@ pub struct ContactResult {
     pub moment_on_ring: Vector3<f64>,
 }
 
+/// Geometry of one ball-race pair (eqs. 2-7). The angles are kept as sines and cosines,
+/// which is what the forces need; `Azimuth::angle` gives the angle where one is wanted.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactGeometry {
+    /// Deformation before any defect, m (<= 0: no contact).
+    pub delta: f64,
+    /// Contact angle, eq. 5.
+    pub alpha: Azimuth,
+    /// Ball azimuth in the ring's tilt frame, eq. 3.
+    pub azimuth: Azimuth,
+    /// Unit normal from the ball centre towards the contact (inertial).
+    pub normal: Vector3<f64>,
+    /// Rolling direction, the ring's tangential unit vector at the ball (inertial).
+    pub tangent: Vector3<f64>,
+}
+
 /// Geometry only (eqs. 2-7): deformation, contact angle, azimuth and the unit normal
 /// from the curvature centre through the ball centre (inertial).
 #[inline]
@@ -140,17 +178,16 @@ pub fn contact_geometry(
     race: &Race,
     ring: &RingMotion,
     ball_centre: &Vector3<f64>,
-) -> (f64, f64, f64, Vector3<f64>, Vector3<f64>) {
+) -> ContactGeometry {
     // eq. 2: ball relative to the ring, in ring (tilt) coordinates
     let p = ring.rot.transpose() * (ball_centre - ring.centre);
-    // eq. 3
-    let theta = (-p.y).atan2(p.z);
+    // eq. 3, sin and cos of theta straight from the coordinates
     let rho = (p.y * p.y + p.z * p.z).sqrt();
-    // sin and cos of theta straight from the coordinates (a ball centre is never on the axis)
     let (s, c) = if rho > 0.0 {
         (-p.y / rho, p.z / rho)
     } else {
-        theta.sin_cos()
+        // a ball centre on the axis: no geometry can hold it there; any azimuth will do
+        (0.0, 1.0)
     };
     // eq. 4: from the curvature centre to the ball centre, in the azimuth plane
     let dx = p.x - race.centre_axial;
@@ -160,14 +197,20 @@ pub fn contact_geometry(
     let delta = dist - race.free_distance;
     // eq. 5: the normal points from ball centre to contact; for the outer race that is
     // (sin a, cos a) in (axial, radial), for the inner race -(sin a, cos a).
-    let alpha = if race.inner {
-        (-dx).atan2(-dr)
-    } else {
-        dx.atan2(dr)
+    let sign = if race.inner { -1.0 } else { 1.0 };
+    let alpha = Azimuth {
+        sin: sign * dx / dist,
+        cos: sign * dr / dist,
     };
     let u_body = Vector3::new(dx / dist, -s * dr / dist, c * dr / dist);
     let t_body = Vector3::new(0.0, -c, -s);
-    (delta, alpha, theta, ring.rot * u_body, ring.rot * t_body)
+    ContactGeometry {
+        delta,
+        alpha,
+        azimuth: Azimuth { sin: s, cos: c },
+        normal: ring.rot * u_body,
+        tangent: ring.rot * t_body,
+    }
 }
 
 /// Full contact: Hertz load with damping, defect modification, traction by strips.
@@ -177,10 +220,11 @@ pub fn race_contact(
     ball: &BallMotion,
     p: &ContactParams,
 ) -> ContactResult {
-    let (delta0, alpha, theta, u, t) = contact_geometry(race, ring, &ball.centre);
+    let g = contact_geometry(race, ring, &ball.centre);
+    let (delta0, u, t) = (g.delta, g.normal, g.tangent);
     let mut out = ContactResult {
-        alpha,
-        azimuth: theta,
+        alpha: g.alpha,
+        azimuth: g.azimuth,
         delta: delta0,
         ..Default::default()
     };
@@ -192,7 +236,7 @@ pub fn race_contact(
     } else {
         race_defects_effect(
             &race.defects,
-            theta - ring.spin_angle,
+            &g.azimuth.minus(&ring.spin_azimuth),
             race.path_radius,
             race.rx,
             race.ball_radius,
@@ -463,13 +507,13 @@ mod tests {
     }
 
     fn ring_at_rest(spin: f64) -> RingMotion {
-        RingMotion {
-            centre: Vector3::zeros(),
-            rot: Matrix3::identity(),
-            velocity: Vector3::zeros(),
+        RingMotion::new(
+            Vector3::zeros(),
+            Matrix3::identity(),
+            Vector3::zeros(),
             spin,
-            spin_angle: 0.0,
-        }
+            0.0,
+        )
     }
 
     fn params() -> ContactParams {
@@ -511,13 +555,13 @@ mod tests {
                 Vector3::new(50.0 * f, 3000.0, -700.0 / f),
             );
             ball.velocity = Vector3::new(0.01 * f, -0.3, 0.02);
-            let ring = RingMotion {
-                centre: Vector3::new(1e-6 * f, -2e-6, 3e-6),
-                rot: Matrix3::new(1.0, -1e-3, 2e-3, 1e-3, 1.0, 0.0, -2e-3, 0.0, 1.0),
-                velocity: Vector3::new(0.0, 0.05, -0.02),
-                spin: 300.0 * f,
-                spin_angle: 0.0,
-            };
+            let ring = RingMotion::new(
+                Vector3::new(1e-6 * f, -2e-6, 3e-6),
+                Matrix3::new(1.0, -1e-3, 2e-3, 1e-3, 1.0, 0.0, -2e-3, 0.0, 1.0),
+                Vector3::new(0.0, 0.05, -0.02),
+                300.0 * f,
+                0.0,
+            );
             // any unit normal and rolling direction will do for the identity
             let u = Vector3::new(alpha.sin(), 0.1 * f.sin(), alpha.cos()).normalize();
             let t = u.cross(&Vector3::new(0.3, 1.0, -0.2)).normalize();
@@ -554,8 +598,8 @@ mod tests {
         let ball = ball_at(&race, alpha, 4e-6, Vector3::zeros());
         let r = race_contact(&race, &ring_at_rest(0.0), &ball, &params());
         assert!((r.delta - 4e-6).abs() < 1e-15, "{}", r.delta);
-        assert!((r.alpha - alpha).abs() < 1e-12, "{}", r.alpha);
-        assert!(r.azimuth.abs() < 1e-12);
+        assert!((r.alpha.angle() - alpha).abs() < 1e-12, "{:?}", r.alpha);
+        assert!(r.azimuth.angle().abs() < 1e-12);
         assert!((r.load - 64.0).abs() < 1e-9, "{}", r.load);
         // a ball at rest on a ring at rest: no slip, so no traction; the force is normal
         let n = normal(alpha);

@@ -108,23 +108,23 @@ fn inner_ring(m: &Model, u: &[f64], w: f64) -> RingMotion {
     } else {
         nalgebra::Matrix3::identity()
     };
-    RingMotion {
-        centre: Vector3::new(u[0], u[1], u[2]),
+    RingMotion::new(
+        Vector3::new(u[0], u[1], u[2]),
         rot,
-        velocity: Vector3::zeros(),
-        spin: w,
-        spin_angle: 0.0,
-    }
+        Vector3::zeros(),
+        w,
+        0.0,
+    )
 }
 
 fn outer_ring() -> RingMotion {
-    RingMotion {
-        centre: Vector3::zeros(),
-        rot: nalgebra::Matrix3::identity(),
-        velocity: Vector3::zeros(),
-        spin: 0.0,
-        spin_angle: 0.0,
-    }
+    RingMotion::new(
+        Vector3::zeros(),
+        nalgebra::Matrix3::identity(),
+        Vector3::zeros(),
+        0.0,
+        0.0,
+    )
 }
 
 /// Forces on one ball at azimuth `th` and position (x, r): residual in (axial, radial),
@@ -140,8 +140,10 @@ fn ball_forces(
     let rb = 0.5 * m.ball_diameter;
     let er = e_r(th);
     let centre = Vector3::new(x, 0.0, 0.0) + r * er;
-    let (di, ai, _, ui, _) = contact_geometry(&m.inner_race, inner, &centre);
-    let (do_, ao, _, uo, _) = contact_geometry(&m.outer_race, &outer_ring(), &centre);
+    let gi = contact_geometry(&m.inner_race, inner, &centre);
+    let go = contact_geometry(&m.outer_race, &outer_ring(), &centre);
+    let (di, ai, ui) = (gi.delta, gi.alpha.angle(), gi.normal);
+    let (do_, ao, uo) = (go.delta, go.alpha.angle(), go.normal);
     let qi = hertz::load(m.inner_race.hertz.k, di);
     let qo = hertz::load(m.outer_race.hertz.k, do_);
     let loaded = qi > 0.0 && qo > 0.0;
@@ -188,7 +190,7 @@ fn solve_ball(m: &Model, inner: &RingMotion, w: f64, th: f64, warm: Option<[f64;
     let fc = m.ball_mass * r_bottom * thd0 * thd0;
     let free = [co.x, r_bottom + hertz::deflection(m.outer_race.hertz.k, fc)];
     let fc_centre = Vector3::new(free[0], 0.0, 0.0) + free[1] * er;
-    if contact_geometry(&m.inner_race, inner, &fc_centre).0 <= 0.0 {
+    if contact_geometry(&m.inner_race, inner, &fc_centre).delta <= 0.0 {
         return free;
     }
     // Otherwise start on the line between the curvature centres, sharing the overlap by
