@@ -3,7 +3,8 @@
 use bearing_core::dynamics::CageState;
 use bearing_core::quasi_static::solve;
 use bearing_core::scene::{
-    fault_case_scene, preset_scene, CavityDrag, FaultCase, RollingResistanceModel, Scene, Traction,
+    fault_case_scene, preset_scene, CavityDrag, FaultCase, Integrator, RollingResistanceModel,
+    Scene, Traction,
 };
 use bearing_core::simulation::{simulate, RunControl, SimResult};
 use bearing_core::simulation_analysis::steady_band_rms;
@@ -33,6 +34,25 @@ fn steady_run_agrees_with_quasi_static() {
     // clearance (measured 0.18-0.24), far from the land.
     let c = r.summary.cage_motion;
     assert!(c.mean_eccentricity < 0.5, "{c:?}");
+}
+
+/// The FSAL-controlled RK4 and the Rosenbrock-W method reach the same steady state as the
+/// quasi-static solver, like the default integrator above, and the same mean cage speed
+/// as the default within the brief's 0.01 %.
+#[test]
+fn other_integrators_agree_with_quasi_static_and_the_default() {
+    let reference = run(&constant_speed(0.1, 1e-6));
+    for (integrator, tol) in [(Integrator::Rk4Fsal, 1e-5), (Integrator::RosenbrockW, 1e-5)] {
+        let mut scene = constant_speed(0.1, tol);
+        scene.solver.integrator = integrator;
+        let r = run(&scene);
+        agrees_with_quasi_static(&scene, &r);
+        let (c, c_ref) = (r.summary.mean_cage_speed, reference.summary.mean_cage_speed);
+        assert!(
+            ((c - c_ref) / c_ref).abs() < 1e-4,
+            "{integrator:?}: cage speed {c} vs {c_ref} rad/s"
+        );
+    }
 }
 
 /// At 400 N axial every ball is loaded and the balls pull the cage round evenly: it runs

@@ -5,7 +5,7 @@
 //! and reports run time against error relative to a tight reference.
 
 use super::result::CliResult;
-use bearing_core::scene::{fault_case_scene, FaultCase, Integrator, ValidScene, ValidationErrors};
+use bearing_core::scene::{fault_case_scene, FaultCase, Integrator, ValidScene};
 use bearing_core::simulation::{simulate, RunControl, SimResult};
 use bearing_core::simulation_analysis::steady_band_rms;
 
@@ -23,14 +23,24 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 0.5)]
         duration: f64,
     },
-    /// Run time against error for the compound-fault H7005C at a constant 10000 rpm.
+    /// Run time against error of every integrator on the compound-fault H7005C, against a
+    /// tight reference checked by a second method.
     WorkPrecision {
+        /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
+        #[arg(long, default_value = "table1")]
+        scene: String,
         /// Simulated time per run, s.
         #[arg(long, default_value_t = 0.5)]
         duration: f64,
         /// Tolerances (rtol = atol) to test.
-        #[arg(long, value_delimiter = ',', default_values_t = vec![1e-4, 1e-5, 1e-6, 1e-7])]
+        #[arg(long, value_delimiter = ',', default_values_t = vec![1e-4, 1e-5, 1e-6])]
         tolerances: Vec<f64>,
+        /// Integrators to test (snake_case names of `solver.integrator`).
+        #[arg(long, value_delimiter = ',', default_values_t = vec!["rk4_adaptive".to_string(), "rk4_fsal".to_string(), "rosenbrock_w".to_string()])]
+        methods: Vec<String>,
+        /// Tolerance of the reference (adaptive RK4), checked by fixed RK4 at 1 us.
+        #[arg(long, default_value_t = 1e-8)]
+        reference: f64,
     },
 }
 
@@ -38,9 +48,12 @@ pub fn main(args: BenchArgs) -> CliResult {
     match args.what {
         BenchWhat::Cases { duration } => cases(duration),
         BenchWhat::WorkPrecision {
+            scene,
             duration,
             tolerances,
-        } => work_precision(duration, &tolerances),
+            methods,
+            reference,
+        } => work_precision(&scene, duration, &tolerances, &methods, reference),
     }
 }
 
@@ -80,14 +93,31 @@ fn cases(duration: f64) -> CliResult {
     Ok(())
 }
 
-fn scene(duration: f64, tol: f64) -> Result<ValidScene, ValidationErrors> {
+fn scene(
+    kind: &str,
+    duration: f64,
+    tol: f64,
+    integrator: Integrator,
+) -> Result<ValidScene, Box<dyn std::error::Error>> {
     let mut s = fault_case_scene("h7005c", FaultCase::Compound).expect("preset");
-    s.operating.speed.initial_rpm = 10_000.0;
-    s.operating.speed.ramp_time = 0.0;
+    match kind {
+        "table1" => {}
+        "constant" => {
+            s.operating.speed.initial_rpm = 10_000.0;
+            s.operating.speed.ramp_time = 0.0;
+        }
+        other => return Err(format!("--scene: expected table1 or constant, got {other}").into()),
+    }
+    s.solver.integrator = integrator;
     s.solver.duration = duration;
     s.solver.rtol = tol;
     s.solver.atol = tol;
-    s.validated()
+    Ok(s.validated()?)
+}
+
+fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>> {
+    serde_json::from_value(serde_json::Value::String(name.into()))
+        .map_err(|_| format!("--methods: unknown integrator {name}").into())
 }
 
 /// RMS of the pedestal Z acceleration below 20 kHz over the steady window, m/s^2.
@@ -95,37 +125,53 @@ fn band_rms(r: &SimResult) -> f64 {
     steady_band_rms(r, "outer_ring_accel_z", 20e3).expect("always recorded")
 }
 
-fn work_precision(duration: f64, tolerances: &[f64]) -> CliResult {
-    let tightest = tolerances.iter().cloned().fold(f64::INFINITY, f64::min);
-    eprintln!("reference: adaptive at {:.0e}", tightest / 100.0);
-    let reference = simulate(&scene(duration, tightest / 100.0)?, RunControl::default())?;
-    let mut fixed = scene(duration, 1e-6)?.into_scene();
-    fixed.solver.integrator = Integrator::Rk4Fixed;
+fn work_precision(
+    kind: &str,
+    duration: f64,
+    tolerances: &[f64],
+    methods: &[String],
+    tight: f64,
+) -> CliResult {
+    let methods = methods
+        .iter()
+        .map(|m| parse_integrator(m).map(|i| (m.as_str(), i)))
+        .collect::<Result<Vec<_>, _>>()?;
+    eprintln!("reference: adaptive RK4 at {tight:.0e}");
+    let reference = simulate(
+        &scene(kind, duration, tight, Integrator::Rk4Adaptive)?,
+        RunControl::default(),
+    )?;
+    let mut fixed = scene(kind, duration, tight, Integrator::Rk4Fixed)?.into_scene();
     fixed.solver.initial_step = 1e-6;
-    let fixed = fixed.validated()?;
     eprintln!("second method: fixed-step RK4 at 1 us");
-    let check = simulate(&fixed, RunControl::default())?;
+    let check = simulate(&fixed.validated()?, RunControl::default())?;
     let (c_ref, r_ref) = (reference.summary.mean_cage_speed, band_rms(&reference));
-    println!("| method | tolerance / step | wall time (s) | RHS evaluations | cage speed error | band RMS error |");
-    println!("| --- | --- | --- | --- | --- | --- |");
+    println!("| method | tolerance / step | wall time (s) | accepted steps | RHS evaluations | cage speed error | band RMS error |");
+    println!("| --- | --- | --- | --- | --- | --- | --- |");
     let row = |name: &str, tol: String, r: &SimResult| {
         println!(
-            "| {name} | {tol} | {:.2} | {} | {:.2e} | {:.2e} |",
+            "| {name} | {tol} | {:.2} | {} | {} | {:.2e} | {:.2e} |",
             r.summary.stats.wall_time,
+            r.summary.stats.accepted_steps,
             r.summary.stats.rhs_evaluations,
             (r.summary.mean_cage_speed - c_ref).abs() / c_ref,
             (band_rms(r) - r_ref).abs() / r_ref
         )
     };
     row(
-        "reference (adaptive)",
-        format!("{:.0e}", tightest / 100.0),
+        "reference: rk4_adaptive",
+        format!("{tight:.0e}"),
         &reference,
     );
-    row("fixed RK4", "1e-6 s".into(), &check);
-    for &t in tolerances {
-        let r = simulate(&scene(duration, t)?, RunControl::default())?;
-        row("adaptive RK4", format!("{t:.0e}"), &r);
+    row("check: rk4_fixed", "1e-6 s".into(), &check);
+    for &(name, integrator) in &methods {
+        for &t in tolerances {
+            let r = simulate(
+                &scene(kind, duration, t, integrator)?,
+                RunControl::default(),
+            )?;
+            row(name, format!("{t:.0e}"), &r);
+        }
     }
     Ok(())
 }

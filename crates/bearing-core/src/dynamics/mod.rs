@@ -3,6 +3,7 @@
 //! the result types. A run starts from a state vector it is given.
 
 pub mod averages;
+pub mod block_jacobian;
 pub mod control;
 pub mod error;
 pub mod error_scale;
@@ -10,7 +11,9 @@ pub mod integrator;
 pub mod output;
 pub mod recorder;
 pub mod rhs;
+pub mod rosenbrock;
 pub mod run;
+pub mod solver;
 pub mod step_bound;
 pub mod system;
 pub mod window;

@@ -1,16 +1,17 @@
-//! The stepping loop: adaptive or fixed RK4 under the defect step bound, output
-//! sampling, steady-window averages, progress and cancellation.
+//! The run loop: the chosen method under the solver, output sampling, steady-window
+//! averages, progress and cancellation.
 
 use super::averages::Averages;
 use super::control::RunControl;
 use super::error::DynError;
 use super::error_scale::scales;
-use super::integrator::{AdaptiveRk4, FixedRk4, StepStats};
+use super::integrator::{AdaptiveRk4, FixedRk4, FsalRk4};
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
-use super::rhs::{rhs, Diagnostics};
-use super::step_bound::defect_step_bound;
-use super::system::BearingSystem;
+use super::rhs::Diagnostics;
+use super::rosenbrock::Rosenbrock;
+use super::solver::{Method, Solver, StepLimits};
+use super::system::{bearing_jacobian, BearingSystem};
 use super::window::steady_window;
 use crate::model::Model;
 use crate::scene::{Integrator, ValidScene};
@@ -24,106 +25,82 @@ pub fn integrate(
     y0: Vec<f64>,
     ctl: RunControl<'_>,
 ) -> Result<SimResult, DynError> {
+    let sv = &scene.solver;
+    let n = m.layout.len;
+    let (scale, phase) = scales(m);
+    let mut sys = BearingSystem {
+        model: m,
+        scale: &scale,
+        diag: Diagnostics::new(m.z),
+    };
+    let limits = StepLimits {
+        t_end: sv.duration,
+        initial_step: sv.initial_step,
+        max_step: sv.max_step,
+        min_step: 1e-14_f64.max(sv.duration * 1e-13),
+    };
+    let (rtol, atol) = (sv.rtol, sv.atol);
+    // one monomorphised loop per method
+    match sv.integrator {
+        Integrator::Rk4Adaptive => {
+            let method = AdaptiveRk4::new(n, rtol, atol, scale.clone(), phase);
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::Rk4Fixed => {
+            let solver = Solver::new(&mut sys, FixedRk4::new(n), y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::Rk4Fsal => {
+            let method = FsalRk4::new(n, rtol, atol, scale.clone(), phase);
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::RosenbrockW => {
+            let method = Rosenbrock::new(n, rtol, atol, scale.clone(), phase, bearing_jacobian(m));
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+    }
+}
+
+fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
+    mut solver: Solver<M>,
+    sys: &mut BearingSystem<'m>,
+    scene: &ValidScene,
+    ctl: RunControl<'_>,
+) -> Result<SimResult, DynError> {
     let RunControl {
         cancel,
         mut progress,
     } = ctl;
+    let m = sys.model;
     let sv = &scene.solver;
     let tend = sv.duration;
-    let n = m.layout.len;
-    let mut sys = BearingSystem { model: m };
-    assert_eq!(y0.len(), n, "initial state of the wrong length");
-    let mut y = y0;
-    let mut f = vec![0.0; n];
-    let mut y_next = vec![0.0; n];
-    let mut f_next = vec![0.0; n];
-    let mut diag = Diagnostics::new(m.z);
-    let mut stats = StepStats::default();
-    rhs(m, 0.0, &y, &mut f, Some(&mut diag));
-    stats.rhs_evals += 1;
-
     let mut rec = Recorder::new(m, &scene.outputs, sv.sample_rate, tend);
     let [w0, _] = steady_window(m.speed.2, tend);
     let mut acc = Averages::new(m.z);
-
-    let (scale, phase) = scales(m);
-    let mut adaptive = AdaptiveRk4::new(n, sv.rtol, sv.atol, scale, phase);
-    let mut fixed = FixedRk4::new(n);
-    let is_fixed = sv.integrator == Integrator::Rk4Fixed;
-    let mut h = sv.initial_step.min(tend);
-    let h_min = 1e-14_f64.max(tend * 1e-13);
     let start = Instant::now();
     let mut last_report = Instant::now();
-    let mut t = 0.0;
-    rec.sample(m, t, 0.0, &y, &f, &y, &f);
-    while t < tend {
+    rec.sample(m, 0.0, 0.0, solver.y(), solver.f(), solver.y(), solver.f());
+    while !solver.finished() {
         if let Some(c) = cancel {
             if c.load(Ordering::Relaxed) {
-                return Err(DynError::Cancelled { at: t });
+                return Err(DynError::Cancelled { at: solver.t() });
             }
         }
-        let remaining = tend - t;
-        let mut h_try = if is_fixed {
-            sv.initial_step
-        } else {
-            h.min(sv.max_step).min(defect_step_bound(m, t, &y))
-        };
-        // land exactly on the end without a sliver step
-        if h_try >= remaining * (1.0 - 1e-12) {
-            h_try = remaining;
-        } else if h_try > 0.5 * remaining {
-            h_try = 0.5 * remaining;
-        }
-        let y_new: &[f64] = if is_fixed {
-            fixed.step(&mut sys, t, &y, &f, h_try, &mut stats);
-            &fixed.y_new
-        } else {
-            let err = adaptive.attempt(&mut sys, t, &y, &f, h_try, &mut stats);
-            if !(err <= 1.0) {
-                stats.rejected += 1;
-                h = h_try * adaptive.reject_factor(err);
-                if h < h_min {
-                    return Err(DynError::StepUnderflow {
-                        time: t,
-                        step: h,
-                        min_step: h_min,
-                        error_norm: err,
-                    });
-                }
-                continue;
-            }
-            h = h_try * adaptive.accept_factor(err);
-            &adaptive.y_new
-        };
-        y_next.copy_from_slice(y_new);
-        let t_new = if h_try == remaining { tend } else { t + h_try };
-        rhs(m, t_new, &y_next, &mut f_next, Some(&mut diag));
-        stats.rhs_evals += 1;
-        if let Some(i) = y_next
-            .iter()
-            .chain(f_next.iter())
-            .position(|v| !v.is_finite())
-        {
-            return Err(DynError::NonFinite {
-                time: t_new,
-                component: i % n,
-                len: n,
-                step: h_try,
-            });
-        }
-        stats.record(h_try);
-        rec.sample(m, t, h_try, &y, &f, &y_next, &f_next);
+        solver.step(sys)?;
+        let last = solver.last_step();
+        rec.sample(m, last.t, last.h, last.y0, last.f0, last.y1, last.f1);
+        let t_new = solver.t();
         if t_new > w0 {
-            let wgt = t_new - t.max(w0);
-            acc.add(m, t_new, wgt, &y_next, &diag);
+            let wgt = t_new - last.t.max(w0);
+            acc.add(m, t_new, wgt, solver.y(), &sys.diag);
         }
-        std::mem::swap(&mut y, &mut y_next);
-        std::mem::swap(&mut f, &mut f_next);
-        t = t_new;
         if let Some(p) = progress.as_deref_mut() {
             if last_report.elapsed().as_millis() >= 10 {
                 last_report = Instant::now();
-                p(t / tend);
+                p(t_new / tend);
             }
         }
     }
@@ -131,6 +108,7 @@ pub fn integrate(
         p(1.0);
     }
     let wall = start.elapsed().as_secs_f64();
+    let stats = solver.stats;
     let summary = acc.finish(
         m,
         [w0, tend],

@@ -1,12 +1,20 @@
 //! The bearing model as an ODE system for the integrators.
 
+use super::block_jacobian::BlockJacobian;
 use super::integrator::OdeSystem;
-use super::rhs::rhs;
+use super::rhs::{rhs, Diagnostics};
+use super::rosenbrock::JacobianSystem;
+use super::step_bound::defect_step_bound;
+use crate::model::layout::{BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
 
 /// The model as an ODE system.
 pub struct BearingSystem<'m> {
     pub model: &'m Model,
+    /// Natural size of each state component (finite-difference increments).
+    pub scale: &'m [f64],
+    /// Diagnostics of the last step-end evaluation.
+    pub diag: Diagnostics,
 }
 
 impl OdeSystem for BearingSystem<'_> {
@@ -16,4 +24,47 @@ impl OdeSystem for BearingSystem<'_> {
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         rhs(self.model, t, y, dy, None);
     }
+    fn rhs_at_step_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+        rhs(self.model, t, y, dy, Some(&mut self.diag));
+    }
+    /// No step carries a ball across a defect unseen (`defect_step_bound`).
+    fn max_step(&self, t: f64, y: &[f64]) -> f64 {
+        defect_step_bound(self.model, t, y)
+    }
+}
+
+impl JacobianSystem for BearingSystem<'_> {
+    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) {
+        let m = self.model;
+        jac.evaluate(t, y, f0, self.scale, |t, y, dy| rhs(m, t, y, dy, None));
+    }
+}
+
+/// The block-diagonal Jacobian of the bearing: one block per ball (9), the inner ring
+/// (10), the outer ring (4) and the cage (12). Colouring: a ball's derivative depends on
+/// its own state, the rings and the cage, never on another ball's, so component k of
+/// every ball is perturbed at once (9 evaluations); the two rings do not act on each
+/// other directly, so inner component k goes with outer component k (10); the cage,
+/// which touches every ball and its guiding ring, goes alone (12). 31 right-hand sides
+/// per Jacobian.
+pub fn bearing_jacobian(m: &Model) -> BlockJacobian {
+    let l = &m.layout;
+    let mut blocks: Vec<_> = (0..l.balls).map(|j| l.ball(j)..l.ball(j) + BALL).collect();
+    blocks.push(l.inner..l.inner + INNER);
+    blocks.push(l.outer..l.outer + OUTER);
+    blocks.push(l.cage..l.cage + CAGE);
+    let mut groups: Vec<Vec<usize>> = (0..BALL)
+        .map(|k| (0..l.balls).map(|j| l.ball(j) + k).collect())
+        .collect();
+    for k in 0..INNER {
+        let mut g = vec![l.inner + k];
+        if k < OUTER {
+            g.push(l.outer + k);
+        }
+        groups.push(g);
+    }
+    for k in 0..CAGE {
+        groups.push(vec![l.cage + k]);
+    }
+    BlockJacobian::new(blocks, groups)
 }

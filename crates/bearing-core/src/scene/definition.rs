@@ -337,6 +337,13 @@ pub enum Integrator {
     Rk4Adaptive,
     /// Classical RK4 at `initial_step`.
     Rk4Fixed,
+    /// Classical RK4 with step-size control from its first-same-as-last stage (an
+    /// embedded 3rd-order estimate at no extra evaluation).
+    Rk4Fsal,
+    /// Linearly implicit Rosenbrock-W method ROS34PW2 (order 3, L-stable) with step-size
+    /// control and a block-diagonal finite-difference Jacobian: not held back by the
+    /// stiff contact modes.
+    RosenbrockW,
 }
 
 /// Solver settings.

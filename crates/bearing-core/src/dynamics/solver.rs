@@ -1,0 +1,356 @@
+//! The solver, kept apart from the problem (an [`OdeSystem`]) as in diffsol: it owns the
+//! state, accept and reject, the step-size control, landing on the end time and the
+//! dense output of the last step. A [`Method`] only proposes a step and says how far to
+//! grow or shrink the next; the problem bounds steps through [`OdeSystem::max_step`]
+//! (the defect transits) and evaluates the derivative. Nothing allocates after
+//! [`Solver::new`].
+
+use super::error::DynError;
+use super::integrator::{hermite, OdeSystem, StepStats};
+
+/// A one-step method under the solver's control.
+pub trait Method<S: OdeSystem> {
+    /// Attempt one step from `(t, y)` with `f0 = f(t, y)` to `t_end = t + h` (exactly the
+    /// end time on the last step). Leaves the proposal for [`Method::y_new`] and returns
+    /// the scaled error norm: accept when <= 1; 0 for a method without error control.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        t_end: f64,
+        stats: &mut StepStats,
+    ) -> f64;
+    /// The proposed state of the last attempt.
+    fn y_new(&self) -> &[f64];
+    /// `f(t + h, y_new)` when the attempt evaluated it (first same as last), through
+    /// [`OdeSystem::rhs_at_step_end`].
+    fn f_new(&self) -> Option<&[f64]> {
+        None
+    }
+    /// Factor for the next step after an accepted one.
+    fn accept_factor(&mut self, err: f64) -> f64;
+    /// Factor for the retry after a rejected one.
+    fn reject_factor(&mut self, err: f64) -> f64;
+    /// False for a fixed-step method: every step is the initial step.
+    fn controlled(&self) -> bool {
+        true
+    }
+}
+
+/// Step limits of a run, s.
+#[derive(Debug, Clone, Copy)]
+pub struct StepLimits {
+    pub t_end: f64,
+    /// First step of a controlled method, the only step of a fixed one.
+    pub initial_step: f64,
+    pub max_step: f64,
+    /// Below this the run fails with [`DynError::StepUnderflow`].
+    pub min_step: f64,
+}
+
+/// Solver state: the current point, the previous accepted point (for dense output) and
+/// the next step to try.
+pub struct Solver<M> {
+    method: M,
+    limits: StepLimits,
+    t: f64,
+    y: Vec<f64>,
+    f: Vec<f64>,
+    t_prev: f64,
+    y_prev: Vec<f64>,
+    f_prev: Vec<f64>,
+    h: f64,
+    /// Size of the last accepted step (not `t - t_prev`, which rounds), s.
+    h_last: f64,
+    /// Counts of steps and evaluations.
+    pub stats: StepStats,
+}
+
+impl<M> Solver<M> {
+    /// Start at `(0, y0)`; evaluates `f(0, y0)` through the step-end hook so the problem's
+    /// diagnostics describe the initial point.
+    pub fn new<S: OdeSystem>(sys: &mut S, method: M, y0: Vec<f64>, limits: StepLimits) -> Self {
+        let n = y0.len();
+        assert_eq!(n, sys.dim(), "initial state of the wrong length");
+        let mut f = vec![0.0; n];
+        sys.rhs_at_step_end(0.0, &y0, &mut f);
+        let stats = StepStats {
+            rhs_evals: 1,
+            ..Default::default()
+        };
+        Solver {
+            method,
+            h: limits.initial_step.min(limits.t_end),
+            limits,
+            t: 0.0,
+            y_prev: y0.clone(),
+            f_prev: f.clone(),
+            t_prev: 0.0,
+            h_last: 0.0,
+            y: y0,
+            f,
+            stats,
+        }
+    }
+
+    /// Current time, s.
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+    /// Current state and derivative.
+    pub fn y(&self) -> &[f64] {
+        &self.y
+    }
+    pub fn f(&self) -> &[f64] {
+        &self.f
+    }
+    /// The last accepted step: its start time, size and both end points with derivatives.
+    pub fn last_step(&self) -> LastStep<'_> {
+        LastStep {
+            t: self.t_prev,
+            h: self.h_last,
+            y0: &self.y_prev,
+            f0: &self.f_prev,
+            y1: &self.y,
+            f1: &self.f,
+        }
+    }
+    /// True once the end time is reached.
+    pub fn finished(&self) -> bool {
+        self.t >= self.limits.t_end
+    }
+
+    /// The state at `t` inside the last step (cubic Hermite, 4th order), into `out`.
+    pub fn interpolate(&self, t: f64, out: &mut [f64]) {
+        let h = self.h_last;
+        if h <= 0.0 {
+            out.copy_from_slice(&self.y);
+            return;
+        }
+        let s = ((t - self.t_prev) / h).clamp(0.0, 1.0);
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = hermite(self.y_prev[k], self.f_prev[k], self.y[k], self.f[k], h, s);
+        }
+    }
+
+    /// Advance by one accepted step (retrying rejected attempts) and return its size, s.
+    pub fn step<S: OdeSystem>(&mut self, sys: &mut S) -> Result<f64, DynError>
+    where
+        M: Method<S>,
+    {
+        let lim = self.limits;
+        loop {
+            let remaining = lim.t_end - self.t;
+            let mut h = if self.method.controlled() {
+                self.h.min(lim.max_step).min(sys.max_step(self.t, &self.y))
+            } else {
+                lim.initial_step
+            };
+            // land exactly on the end without a sliver step
+            if h >= remaining * (1.0 - 1e-12) {
+                h = remaining;
+            } else if h > 0.5 * remaining {
+                h = 0.5 * remaining;
+            }
+            let t_new = if h == remaining {
+                lim.t_end
+            } else {
+                self.t + h
+            };
+            let err = self
+                .method
+                .attempt(sys, self.t, &self.y, &self.f, h, t_new, &mut self.stats);
+            if self.method.controlled() && !(err <= 1.0) {
+                self.stats.rejected += 1;
+                self.h = h * self.method.reject_factor(err);
+                if self.h < lim.min_step {
+                    return Err(DynError::StepUnderflow {
+                        time: self.t,
+                        step: self.h,
+                        min_step: lim.min_step,
+                        error_norm: err,
+                    });
+                }
+                continue;
+            }
+            if self.method.controlled() {
+                self.h = h * self.method.accept_factor(err);
+            }
+            std::mem::swap(&mut self.y_prev, &mut self.y);
+            std::mem::swap(&mut self.f_prev, &mut self.f);
+            self.y.copy_from_slice(self.method.y_new());
+            match self.method.f_new() {
+                Some(f) => self.f.copy_from_slice(f),
+                None => {
+                    sys.rhs_at_step_end(t_new, &self.y, &mut self.f);
+                    self.stats.rhs_evals += 1;
+                }
+            }
+            self.t_prev = self.t;
+            self.t = t_new;
+            self.h_last = h;
+            let n = self.y.len();
+            if let Some(i) = self
+                .y
+                .iter()
+                .chain(self.f.iter())
+                .position(|v| !v.is_finite())
+            {
+                return Err(DynError::NonFinite {
+                    time: t_new,
+                    component: i % n,
+                    len: n,
+                    step: h,
+                });
+            }
+            self.stats.record(h);
+            return Ok(h);
+        }
+    }
+}
+
+/// One accepted step as the output sampling reads it.
+pub struct LastStep<'a> {
+    /// Start, s, and size, s.
+    pub t: f64,
+    pub h: f64,
+    pub y0: &'a [f64],
+    pub f0: &'a [f64],
+    pub y1: &'a [f64],
+    pub f1: &'a [f64],
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::integrator::{AdaptiveRk4, FixedRk4, FsalRk4};
+
+    /// x'' = -x, with an optional step bound and a blow-up time.
+    struct Osc {
+        bound: f64,
+        blow_up_at: f64,
+    }
+    impl OdeSystem for Osc {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = y[1];
+            dy[1] = if t >= self.blow_up_at {
+                f64::NAN
+            } else {
+                -y[0]
+            };
+        }
+        fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
+            self.bound
+        }
+    }
+
+    fn limits(t_end: f64) -> StepLimits {
+        StepLimits {
+            t_end,
+            initial_step: 1e-3,
+            max_step: 1.0,
+            min_step: 1e-14,
+        }
+    }
+
+    fn osc(bound: f64) -> Osc {
+        Osc {
+            bound,
+            blow_up_at: f64::INFINITY,
+        }
+    }
+
+    #[test]
+    fn lands_on_the_end_time_and_interpolates() {
+        let mut sys = osc(f64::INFINITY);
+        let method = AdaptiveRk4::new(2, 1e-8, 1e-8, vec![1.0; 2], vec![false; 2]);
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(2.0));
+        let mut mid = [0.0; 2];
+        let mut worst: f64 = 0.0;
+        while !s.finished() {
+            s.step(&mut sys).unwrap();
+            // dense output in the middle of every step: 4th order, within ~1e-7 here
+            let last = s.last_step();
+            let tm = last.t + 0.5 * last.h;
+            s.interpolate(tm, &mut mid);
+            worst = worst.max((mid[0] - tm.cos()).abs());
+        }
+        assert_eq!(s.t(), 2.0, "the last step lands exactly on the end");
+        assert!((s.y()[0] - 2f64.cos()).abs() < 1e-7, "{}", s.y()[0]);
+        assert!(worst < 1e-6, "{worst}");
+        // pinned (diffsol practice): a change means the controller or the landing changed
+        assert_eq!(
+            (s.stats.accepted, s.stats.rejected),
+            (28, 0),
+            "{:?}",
+            s.stats
+        );
+        assert_eq!(s.stats.rhs_evals, 1 + 6 * 28);
+    }
+
+    #[test]
+    fn the_problem_bounds_every_step() {
+        let mut sys = osc(0.01);
+        let method = FsalRk4::new(2, 1e-3, 1e-3, vec![1.0; 2], vec![false; 2]);
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(1.0));
+        while !s.finished() {
+            let h = s.step(&mut sys).unwrap();
+            assert!(h <= 0.01 * (1.0 + 1e-12), "{h}");
+        }
+        // four evaluations per attempt, the fourth reused as the next first stage
+        let st = s.stats;
+        assert_eq!(st.rhs_evals, 1 + 4 * (st.accepted + st.rejected));
+    }
+
+    #[test]
+    fn a_fixed_method_takes_the_initial_step() {
+        let mut sys = osc(f64::INFINITY);
+        let mut s = Solver::new(&mut sys, FixedRk4::new(2), vec![1.0, 0.0], limits(0.1));
+        while !s.finished() {
+            s.step(&mut sys).unwrap();
+        }
+        assert_eq!(s.stats.accepted, 100);
+        assert_eq!(s.stats.rejected, 0);
+    }
+
+    #[test]
+    fn non_finite_values_fail_the_step() {
+        let mut sys = Osc {
+            bound: f64::INFINITY,
+            blow_up_at: 0.05,
+        };
+        let mut s = Solver::new(&mut sys, FixedRk4::new(2), vec![1.0, 0.0], limits(0.1));
+        let err = loop {
+            if let Err(e) = s.step(&mut sys) {
+                break e;
+            }
+        };
+        assert!(
+            matches!(err, DynError::NonFinite { component: 1, .. }),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_controller_that_cannot_meet_the_tolerance_underflows() {
+        let mut sys = Osc {
+            bound: f64::INFINITY,
+            blow_up_at: 0.05,
+        };
+        let method = AdaptiveRk4::new(2, 1e-6, 1e-6, vec![1.0; 2], vec![false; 2]);
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(0.1));
+        let err = loop {
+            if let Err(e) = s.step(&mut sys) {
+                break e;
+            }
+        };
+        assert!(matches!(err, DynError::StepUnderflow { .. }), "{err}");
+    }
+}
