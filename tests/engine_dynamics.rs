@@ -27,7 +27,7 @@ fn run(s: &Scene) -> SimResult {
 
 #[test]
 fn steady_run_agrees_with_quasi_static() {
-    let scene = constant_speed(0.1, 1e-6);
+    let scene = constant_speed(0.1, 1e-5);
     let r = run(&scene);
     agrees_with_quasi_static(&scene, &r);
     // The paper's model at this point: the cage centre keeps within ~20 % of the land
@@ -36,13 +36,16 @@ fn steady_run_agrees_with_quasi_static() {
     assert!(c.mean_eccentricity < 0.5, "{c:?}");
 }
 
-/// The FSAL-controlled RK4 and the Rosenbrock-W method reach the same steady state as the
-/// quasi-static solver, like the default integrator above, and the same mean cage speed
-/// as the default within the brief's 0.01 %.
+/// Cash-Karp RK4 (the former default) and the Rosenbrock-W method reach the same steady
+/// state as the quasi-static solver, like the default integrator above, and the same mean
+/// cage speed as the default within the brief's 0.01 %.
 #[test]
 fn other_integrators_agree_with_quasi_static_and_the_default() {
-    let reference = run(&constant_speed(0.1, 1e-6));
-    for (integrator, tol) in [(Integrator::Rk4Fsal, 1e-5), (Integrator::RosenbrockW, 1e-5)] {
+    let reference = run(&constant_speed(0.1, 1e-5));
+    for (integrator, tol) in [
+        (Integrator::Rk4Adaptive, 1e-6),
+        (Integrator::RosenbrockW, 1e-5),
+    ] {
         let mut scene = constant_speed(0.1, tol);
         scene.solver.integrator = integrator;
         let r = run(&scene);
@@ -59,7 +62,7 @@ fn other_integrators_agree_with_quasi_static_and_the_default() {
 /// centred without orbiting (measured e = 0.04), which the summary reports as quiet.
 #[test]
 fn evenly_loaded_cage_runs_quiet() {
-    let mut scene = constant_speed(0.06, 1e-6);
+    let mut scene = constant_speed(0.06, 1e-5);
     scene.operating.axial_load = 400.0;
     let c = run(&scene).summary.cage_motion;
     assert_eq!(c.state, CageState::Quiet, "{c:?}");
@@ -73,7 +76,7 @@ fn evenly_loaded_cage_runs_quiet() {
 /// balls put on the cage drives its land into a half-speed whirl, which the summary reports.
 #[test]
 fn drag_and_rolling_resistance_brake_the_cage() {
-    let paper = constant_speed(0.06, 1e-6);
+    let paper = constant_speed(0.06, 1e-5);
     let mut full = paper.clone();
     full.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.01 };
     full.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
@@ -105,7 +108,7 @@ fn drag_and_rolling_resistance_brake_the_cage() {
 /// the solver needs more steps; and the cage runs slower than with the preset curve.
 #[test]
 fn film_traction_keeps_the_equilibrium_and_slows_the_cage() {
-    let curve = constant_speed(0.06, 1e-6);
+    let curve = constant_speed(0.06, 1e-5);
     let mut film = curve.clone();
     film.lubricant.traction = Traction::Film {
         shear_modulus: 1e9,
@@ -234,15 +237,14 @@ fn agrees_with_quasi_static(scene: &Scene, r: &SimResult) {
 }
 
 /// Relative changes of the mean cage speed and of the pedestal Z band RMS (< 20 kHz, over the
-/// steady window) when the Table-1 scene of `case` is run at rtol = atol = 1e-6 and 1e-7.
+/// steady window) when the Table-1 scene of `case` is run at the default solver settings
+/// (rk4_fsal, rtol = atol = 1e-5) and 10 times tighter.
 fn tolerance_changes(case: FaultCase) -> (f64, f64) {
-    let scene = |tol: f64| {
-        let mut s = fault_case_scene("h7005c", case).unwrap();
-        s.solver.rtol = tol;
-        s.solver.atol = tol;
-        s
-    };
-    let (a, b) = (run(&scene(1e-6)), run(&scene(1e-7)));
+    let default = fault_case_scene("h7005c", case).unwrap();
+    let mut tight = default.clone();
+    tight.solver.rtol = default.solver.rtol / 10.0;
+    tight.solver.atol = default.solver.atol / 10.0;
+    let (a, b) = (run(&default), run(&tight));
     let dc =
         (a.summary.mean_cage_speed - b.summary.mean_cage_speed).abs() / b.summary.mean_cage_speed;
     let rms = |r: &SimResult| steady_band_rms(r, "outer_ring_accel_z", 20e3).unwrap();
@@ -258,11 +260,12 @@ fn tolerance_changes(case: FaultCase) -> (f64, f64) {
     (dc, dr)
 }
 
-// Tightening the tolerance 10x (issue 2): the Table-1 scene (1000 -> 10000 rpm in 0.1 s,
-// 0.5 s, averages over 0.2-0.5 s: ~21 cage revolutions, ~340 outer-defect passes). The
-// brief's limits are 0.01 % on the mean cage speed and 1 % on the band RMS. Measured
-// 2026-11-21: cage speed changes of 3e-7 to 6e-7, RMS changes of 0.07 % (inner), 0.41 %
-// (outer) and 0.28 % (compound).
+// Tightening the default tolerance 10x (issues 2 and 10): the Table-1 scene (1000 -> 10000
+// rpm in 0.1 s, 0.5 s, averages over 0.2-0.5 s: ~21 cage revolutions, ~340 outer-defect
+// passes). The brief's limits are 0.01 % on the mean cage speed and 1 % on the band RMS.
+// Measured 2026-11-21 with the former default (rk4_adaptive, 1e-6 against 1e-7): cage speed
+// changes of 3e-7 to 6e-7, RMS changes of 0.07 % (inner), 0.41 % (outer) and 0.28 %
+// (compound); the current default's figures are in docs/benchmarks.md.
 
 #[test]
 fn tighter_tolerance_changes_little_inner_fault() {
@@ -317,9 +320,10 @@ fn every_fault_case_runs_clean() {
         let n = r.channels.get("outer_ring_accel_y").unwrap().data.len();
         // uniform sampling: floor(T fs) + 1 samples
         assert_eq!(n, (0.02 * s.solver.sample_rate).floor() as usize + 1);
+        // every controlled method spends at least 4 evaluations per accepted step
         assert!(
             r.summary.stats.accepted_steps > 0
-                && r.summary.stats.rhs_evaluations >= 6 * r.summary.stats.accepted_steps
+                && r.summary.stats.rhs_evaluations >= 4 * r.summary.stats.accepted_steps
         );
     }
 }
@@ -328,7 +332,7 @@ fn every_fault_case_runs_clean() {
 fn cancellation_stops_the_run() {
     use std::sync::atomic::AtomicBool;
     let flag = AtomicBool::new(true);
-    let s = constant_speed(0.05, 1e-6);
+    let s = constant_speed(0.05, 1e-5);
     let err = simulate(
         &s.validated().unwrap(),
         RunControl {
@@ -349,7 +353,7 @@ fn progress_is_reported_up_to_one() {
         last = f;
         calls += 1;
     };
-    let mut s = constant_speed(0.01, 1e-6);
+    let mut s = constant_speed(0.01, 1e-5);
     s.solver.duration = 0.01;
     simulate(
         &s.validated().unwrap(),

@@ -29,6 +29,9 @@ pub enum BenchWhat {
         /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
         #[arg(long, default_value = "table1")]
         scene: String,
+        /// Fault case of the preset: none, inner, outer or compound.
+        #[arg(long, default_value = "compound")]
+        fault: FaultCase,
         /// Simulated time per run, s.
         #[arg(long, default_value_t = 0.5)]
         duration: f64,
@@ -49,11 +52,12 @@ pub fn main(args: BenchArgs) -> CliResult {
         BenchWhat::Cases { duration } => cases(duration),
         BenchWhat::WorkPrecision {
             scene,
+            fault,
             duration,
             tolerances,
             methods,
             reference,
-        } => work_precision(&scene, duration, &tolerances, &methods, reference),
+        } => work_precision(&scene, fault, duration, &tolerances, &methods, reference),
     }
 }
 
@@ -95,11 +99,12 @@ fn cases(duration: f64) -> CliResult {
 
 fn scene(
     kind: &str,
+    fault: FaultCase,
     duration: f64,
     tol: f64,
     integrator: Integrator,
 ) -> Result<ValidScene, Box<dyn std::error::Error>> {
-    let mut s = fault_case_scene("h7005c", FaultCase::Compound).expect("preset");
+    let mut s = fault_case_scene("h7005c", fault).expect("preset");
     match kind {
         "table1" => {}
         "constant" => {
@@ -127,6 +132,7 @@ fn band_rms(r: &SimResult) -> f64 {
 
 fn work_precision(
     kind: &str,
+    fault: FaultCase,
     duration: f64,
     tolerances: &[f64],
     methods: &[String],
@@ -138,10 +144,10 @@ fn work_precision(
         .collect::<Result<Vec<_>, _>>()?;
     eprintln!("reference: adaptive RK4 at {tight:.0e}");
     let reference = simulate(
-        &scene(kind, duration, tight, Integrator::Rk4Adaptive)?,
+        &scene(kind, fault, duration, tight, Integrator::Rk4Adaptive)?,
         RunControl::default(),
     )?;
-    let mut fixed = scene(kind, duration, tight, Integrator::Rk4Fixed)?.into_scene();
+    let mut fixed = scene(kind, fault, duration, tight, Integrator::Rk4Fixed)?.into_scene();
     fixed.solver.initial_step = 1e-6;
     eprintln!("second method: fixed-step RK4 at 1 us");
     let check = simulate(&fixed.validated()?, RunControl::default())?;
@@ -167,7 +173,7 @@ fn work_precision(
     for &(name, integrator) in &methods {
         for &t in tolerances {
             let r = simulate(
-                &scene(kind, duration, t, integrator)?,
+                &scene(kind, fault, duration, t, integrator)?,
                 RunControl::default(),
             )?;
             row(name, format!("{t:.0e}"), &r);

@@ -2,6 +2,7 @@
 //! integrators, the stepping loop, uniform output sampling, steady-window averages and
 //! the result types. A run starts from a state vector it is given.
 
+pub mod auto_switch;
 pub mod averages;
 pub mod block_jacobian;
 pub mod control;

@@ -14,8 +14,7 @@
 #![allow(clippy::excessive_precision)]
 
 use super::block_jacobian::BlockJacobian;
-use super::integrator::{OdeSystem, StepStats};
-use super::solver::Method;
+use super::integrator::{Method, OdeSystem, StepStats};
 
 const S: usize = 4;
 const GAMMA: f64 = 4.358_665_215_084_590_0e-1;
@@ -242,6 +241,11 @@ impl Rosenbrock {
             self.jac_age = u32::MAX;
         }
         err
+    }
+
+    /// Evaluate the Jacobian afresh before the next attempt.
+    pub fn refresh_jacobian(&mut self) {
+        self.jac_age = u32::MAX;
     }
 
     /// Step-size factor after an accepted step (PI controller, error ~ h^3).

@@ -1,16 +1,17 @@
 //! The run loop: the chosen method under the solver, output sampling, steady-window
 //! averages, progress and cancellation.
 
+use super::auto_switch::AutoSwitch;
 use super::averages::Averages;
 use super::control::RunControl;
 use super::error::DynError;
 use super::error_scale::scales;
-use super::integrator::{AdaptiveRk4, FixedRk4, FsalRk4};
+use super::integrator::{AdaptiveRk4, FixedRk4, FsalRk4, Method};
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
 use super::rhs::Diagnostics;
 use super::rosenbrock::Rosenbrock;
-use super::solver::{Method, Solver, StepLimits};
+use super::solver::{Solver, StepLimits};
 use super::system::{bearing_jacobian, BearingSystem};
 use super::window::steady_window;
 use crate::model::Model;
@@ -54,6 +55,13 @@ pub fn integrate(
         Integrator::Rk4Fsal => {
             let method = FsalRk4::new(n, rtol, atol, scale.clone(), phase);
             let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::Auto => {
+            let explicit = FsalRk4::new(n, rtol, atol, scale.clone(), phase.clone());
+            let implicit =
+                Rosenbrock::new(n, rtol, atol, scale.clone(), phase, bearing_jacobian(m));
+            let solver = Solver::new(&mut sys, AutoSwitch::new(explicit, implicit), y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::RosenbrockW => {
