@@ -379,15 +379,16 @@ pub async fn plot(
             )))
         }
         Some(Err(e)) => {
-            let state = super::study_views::study_state(&study);
-            return Err(Problem::conflict(
-                format!("study {id}: {e}"),
-                Some(if state.is_finished() {
-                    "finished"
-                } else {
-                    "running"
-                }),
-            ));
+            use super::study_views::StudyState;
+            // the problem's job_state takes the job states' names, which a study's share
+            let state = match super::study_views::study_state(&study) {
+                StudyState::Queued => "queued",
+                StudyState::Running => "running",
+                StudyState::Succeeded => "succeeded",
+                StudyState::Failed => "failed",
+                StudyState::Cancelled => "cancelled",
+            };
+            return Err(Problem::conflict(format!("study {id}: {e}"), Some(state)));
         }
         Some(Ok(svg)) => svg,
     };
