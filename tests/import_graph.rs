@@ -56,6 +56,8 @@ const LAYERS: &[Layers] = &[
             ("simulation", 5),
             // The glue that analyses a simulated signal sits above both.
             ("simulation_analysis", 6),
+            // The stress suite builds scenes, runs them and checks their results.
+            ("stress", 6),
             // Studies run points and read them with the analysis glue.
             ("study", 7),
             (ROOT, 10),

@@ -2,7 +2,8 @@
 //!
 //! `bench cases` runs the preset's four fault cases (Table 1 scene) and prints wall time
 //! and solver statistics; `bench work-precision` runs one scene at several tolerances
-//! and reports run time against error relative to a tight reference.
+//! and reports run time against error relative to a tight reference; `bench stress` runs
+//! the stability stress suite (`bench_stress.rs`).
 
 use super::result::CliResult;
 use bearing_core::scene::{fault_case_scene, FaultCase, Integrator, ValidScene};
@@ -45,6 +46,19 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 1e-8)]
         reference: f64,
     },
+    /// The stability stress suite: extreme scenes run with their invariants checked, or
+    /// refused up front naming the field (bearing_core::stress).
+    Stress {
+        /// Simulated time per scene, s (the long run keeps its own 5 s unless --short).
+        #[arg(long, default_value_t = 0.1)]
+        duration: f64,
+        /// Only these scenes (comma-separated names; default all).
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
+        /// Run the long run for --duration too.
+        #[arg(long)]
+        short: bool,
+    },
 }
 
 pub fn main(args: BenchArgs) -> CliResult {
@@ -58,6 +72,11 @@ pub fn main(args: BenchArgs) -> CliResult {
             methods,
             reference,
         } => work_precision(&scene, fault, duration, &tolerances, &methods, reference),
+        BenchWhat::Stress {
+            duration,
+            only,
+            short,
+        } => super::bench_stress::stress(duration, &only, short),
     }
 }
 
