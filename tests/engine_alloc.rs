@@ -4,7 +4,7 @@
 use bearing_core::dynamics::rhs::{rhs, Diagnostics};
 use bearing_core::model::Model;
 use bearing_core::quasi_static::{initial_state, solve_model};
-use bearing_core::scene::{fault_case_scene, FaultCase};
+use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity};
 use bearing_core::simulation::{simulate, RunControl};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -32,7 +32,20 @@ static GLOBAL: Counting = Counting;
 // One test function: the counter is global, and tests in one binary run in parallel.
 #[test]
 fn rhs_and_stepping_loop_do_not_allocate() {
-    let scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+    // every fidelity level: the reduced ones solve a Newton balance per ball inside the
+    // right-hand side and rewrite slots after each step (`BearingSystem::project`)
+    for fidelity in [
+        Fidelity::Full,
+        Fidelity::QuasiStaticBalls,
+        Fidelity::ConcentricCage,
+    ] {
+        let mut scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+        scene.solver.fidelity = fidelity;
+        no_allocation(&scene, fidelity);
+    }
+}
+
+fn no_allocation(scene: &bearing_core::scene::Scene, fidelity: Fidelity) {
     let m = Model::new(&scene.validated().unwrap());
     let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
     let y = initial_state(&m, &qs);
@@ -42,7 +55,11 @@ fn rhs_and_stepping_loop_do_not_allocate() {
     for k in 0..100 {
         rhs(&m, k as f64 * 1e-6, &y, &mut dy, Some(&mut diag));
     }
-    assert_eq!(ALLOCS.load(Ordering::Relaxed) - before, 0, "rhs allocated");
+    assert_eq!(
+        ALLOCS.load(Ordering::Relaxed) - before,
+        0,
+        "{fidelity:?}: rhs allocated"
+    );
 
     // A run allocates its buffers up front and its result at the end; the number of
     // allocations must not depend on how many steps it takes.
@@ -61,7 +78,10 @@ fn rhs_and_stepping_loop_do_not_allocate() {
     let (a2, s2) = count(0.0029);
     assert!(
         s2 > s1 + 10,
-        "the second run must take more steps ({s1} vs {s2})"
+        "{fidelity:?}: the second run must take more steps ({s1} vs {s2})"
     );
-    assert_eq!(a1, a2, "allocations grew with the step count: {a1} vs {a2}");
+    assert_eq!(
+        a1, a2,
+        "{fidelity:?}: allocations grew with the step count: {a1} vs {a2}"
+    );
 }

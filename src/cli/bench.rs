@@ -46,6 +46,28 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 1e-8)]
         reference: f64,
     },
+    /// Each fidelity level against the full model on one scene: run time, identified
+    /// BPFO/BPFI, mean cage speed, band RMS below 20 kHz and peak contact loads.
+    Fidelity {
+        /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
+        #[arg(long, default_value = "table1")]
+        scene: String,
+        /// Fault case of the preset: none, inner, outer or compound.
+        #[arg(long, default_value = "compound")]
+        fault: FaultCase,
+        /// Simulated time per run, s.
+        #[arg(long, default_value_t = 0.5)]
+        duration: f64,
+        /// Levels to compare with `full` (snake_case names of `solver.fidelity`).
+        #[arg(long, value_delimiter = ',', default_values_t = vec!["quasi_static_balls".to_string(), "concentric_cage".to_string()])]
+        levels: Vec<String>,
+        /// Traction strips for the reduced levels (default: the scene's).
+        #[arg(long)]
+        strips: Option<usize>,
+        /// Integrator for the reduced levels (default: the scene's).
+        #[arg(long)]
+        integrator: Option<String>,
+    },
     /// The stability stress suite: extreme scenes run with their invariants checked, or
     /// refused up front naming the field (bearing_core::stress).
     Stress {
@@ -72,6 +94,21 @@ pub fn main(args: BenchArgs) -> CliResult {
             methods,
             reference,
         } => work_precision(&scene, fault, duration, &tolerances, &methods, reference),
+        BenchWhat::Fidelity {
+            scene,
+            fault,
+            duration,
+            levels,
+            strips,
+            integrator,
+        } => super::bench_fidelity::fidelity(
+            &scene,
+            fault,
+            duration,
+            &levels,
+            strips,
+            integrator.as_deref(),
+        ),
         BenchWhat::Stress {
             duration,
             only,

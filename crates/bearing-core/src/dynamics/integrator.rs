@@ -16,6 +16,11 @@ pub trait OdeSystem {
     fn rhs_at_step_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         self.rhs(t, y, dy)
     }
+    /// Update, after an accepted step and right after [`OdeSystem::rhs_at_step_end`] at
+    /// `(t, y)`, the components the derivative does not advance because an algebraic
+    /// equation fixes them (the quasi-static ball centres and the lagged forces of their
+    /// balance). The derivative already evaluated at `y` is kept.
+    fn project(&mut self, _t: f64, _y: &mut [f64]) {}
     /// Largest step the problem allows from `(t, y)` (e.g. to locate events), s.
     fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
         f64::INFINITY

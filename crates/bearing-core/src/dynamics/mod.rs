@@ -4,6 +4,7 @@
 
 pub mod auto_switch;
 pub mod averages;
+pub mod ball_equilibrium;
 pub mod block_jacobian;
 pub mod control;
 pub mod error;

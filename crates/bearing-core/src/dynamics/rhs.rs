@@ -3,6 +3,7 @@
 //! Allocation-free: it reads the state slice, writes the derivative slice and, when
 //! asked, fills preallocated diagnostics.
 
+use super::ball_equilibrium::ball_equilibrium;
 use crate::model::layout::Layout;
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
@@ -27,6 +28,10 @@ pub struct Diagnostics {
     pub outer_accel: [f64; 2],
     /// Cage-land eccentricity ratio, -.
     pub land_eccentricity: f64,
+    /// Quasi-static balls only: each ball's axial and radial position (m) and the axial
+    /// and radial force on it of everything but its normal loads and centrifugal force (N).
+    pub ball_centre: Vec<[f64; 2]>,
+    pub ball_other_force: Vec<[f64; 2]>,
 }
 
 impl Diagnostics {
@@ -36,6 +41,8 @@ impl Diagnostics {
             outer_load: vec![0.0; z],
             inner_alpha: vec![0.0; z],
             outer_alpha: vec![0.0; z],
+            ball_centre: vec![[0.0; 2]; z],
+            ball_other_force: vec![[0.0; 2]; z],
             ..Default::default()
         }
     }
@@ -100,7 +107,24 @@ pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
 pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut Diagnostics>) {
     let l = &m.layout;
     let (inner, outer) = ring_motions(m, t, y);
-    let cage = cage_motion(m, y);
+    let cage = if m.concentric_cage {
+        // held on the guiding ring's axis (the outer ring for a ball-guided cage)
+        let ring = if m.land.is_some() && !m.land_on_outer {
+            &inner
+        } else {
+            &outer
+        };
+        let c = l.cage;
+        CageMotion {
+            centre: Vector3::new(y[c], ring.centre.y, ring.centre.z),
+            velocity: Vector3::new(0.0, ring.velocity.y, ring.velocity.z),
+            rot: Matrix3::identity(),
+            spin_angle: y[c + 3],
+            omega: Vector3::new(y[c + 9], 0.0, 0.0),
+        }
+    } else {
+        cage_motion(m, y)
+    };
     let cage_az = Azimuth::new(cage.spin_angle);
     let mut f_inner = Vector3::zeros();
     let mut m_inner = Vector3::zeros();
@@ -113,7 +137,18 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     for j in 0..m.z {
         let b = l.ball(j);
         let az = Azimuth::new(y[b + 2]);
-        let ball = ball_motion(y, b, &az);
+        let ball = if m.quasi_static_balls {
+            let thd = y[b + 5];
+            let other = [y[b + 3], y[b + 4]];
+            let [x, r] = ball_equilibrium(m, &inner, &outer, &az, thd, [y[b], y[b + 1]], other);
+            BallMotion {
+                centre: Vector3::new(x, 0.0, 0.0) + r * az.e_r(),
+                velocity: r * thd * az.e_t(),
+                omega: az.from_frame(&Vector3::new(y[b + 6], y[b + 7], y[b + 8])),
+            }
+        } else {
+            ball_motion(y, b, &az)
+        };
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
         let pc = pocket_contact(
@@ -136,16 +171,36 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         f_cage += pc.force_on_cage;
         m_cage += pc.moment_on_cage;
 
-        let (r, rd, thd) = (y[b + 1], y[b + 4], y[b + 5]);
+        let thd = y[b + 5];
         let fa = az.to_frame(&f);
         let ma = az.to_frame(&mo);
-        dy[b] = y[b + 3];
-        dy[b + 1] = rd;
         dy[b + 2] = thd;
-        // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
-        dy[b + 3] = fa.x / mb;
-        dy[b + 4] = fa.y / mb + r * thd * thd;
-        dy[b + 5] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
+        if m.quasi_static_balls {
+            // The centre sits where its loads balance (ball_equilibrium); it is not
+            // advanced: the accepted step writes it, and the in-plane force of everything
+            // but the normal loads and the centrifugal force, into the state
+            // (`BearingSystem::project`).
+            let r = ball.centre.dot(&az.e_r());
+            dy[b] = 0.0;
+            dy[b + 1] = 0.0;
+            dy[b + 3] = 0.0;
+            dy[b + 4] = 0.0;
+            dy[b + 5] = fa.z / (mb * r);
+            if let Some(d) = diag.as_deref_mut() {
+                // at the balance, normal + centrifugal + lagged other = 0, so the other
+                // forces now are the net in-plane force, plus centrifugal, plus the lagged
+                d.ball_centre[j] = [ball.centre.x, r];
+                d.ball_other_force[j] = [fa.x + y[b + 3], fa.y + mb * r * thd * thd + y[b + 4]];
+            }
+        } else {
+            let (r, rd) = (y[b + 1], y[b + 4]);
+            dy[b] = y[b + 3];
+            dy[b + 1] = rd;
+            // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
+            dy[b + 3] = fa.x / mb;
+            dy[b + 4] = fa.y / mb + r * thd * thd;
+            dy[b + 5] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
+        }
         // eq. 32 for a sphere, in the azimuth frame turning at thd about X:
         // dw/dt = M / I - thd e_x x w (the gyroscopic coupling)
         let (wr, wt) = (y[b + 7], y[b + 8]);
@@ -203,6 +258,16 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         cage_torque_x += cage_windage_torque(medium, ro, ri, y[l.cage + 9]);
     }
 
+    // A concentric cage passes its radial load to the ring that guides it.
+    if m.concentric_cage {
+        let radial = Vector3::new(0.0, f_cage.y, f_cage.z);
+        if m.land.is_some() && !m.land_on_outer {
+            f_inner += radial;
+        } else {
+            f_outer += radial;
+        }
+    }
+
     // Inner ring: translations under the applied load (rotation prescribed).
     let i = l.inner;
     let mi = m.inner_mass;
@@ -247,6 +312,12 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     dy[c + 9] = (m_cage.x + cage_torque_x) / ix;
     dy[c + 10] = (m_cage.y + (id - ix) * wx * wz) / id;
     dy[c + 11] = (m_cage.z + (ix - id) * wx * wy) / id;
+    if m.concentric_cage {
+        // only the axial position and the spin move
+        for k in [1, 2, 4, 5, 7, 8, 10, 11] {
+            dy[c + k] = 0.0;
+        }
+    }
 
     if let Some(d) = diag {
         d.inner_reaction = [f_inner.x, f_inner.y, f_inner.z];

@@ -40,11 +40,12 @@ pub struct Solver<M> {
 impl<M> Solver<M> {
     /// Start at `(0, y0)`; evaluates `f(0, y0)` through the step-end hook so the problem's
     /// diagnostics describe the initial point.
-    pub fn new<S: OdeSystem>(sys: &mut S, method: M, y0: Vec<f64>, limits: StepLimits) -> Self {
+    pub fn new<S: OdeSystem>(sys: &mut S, method: M, mut y0: Vec<f64>, limits: StepLimits) -> Self {
         let n = y0.len();
         assert_eq!(n, sys.dim(), "initial state of the wrong length");
         let mut f = vec![0.0; n];
         sys.rhs_at_step_end(0.0, &y0, &mut f);
+        sys.project(0.0, &mut y0);
         let stats = StepStats {
             rhs_evals: 1,
             ..Default::default()
@@ -157,6 +158,7 @@ impl<M> Solver<M> {
                     self.stats.rhs_evals += 1;
                 }
             }
+            sys.project(t_new, &mut self.y);
             self.t_prev = self.t;
             self.t = t_new;
             self.h_last = h;

@@ -27,6 +27,31 @@ impl OdeSystem for BearingSystem<'_> {
     fn rhs_at_step_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
         rhs(self.model, t, y, dy, Some(&mut self.diag));
     }
+    /// Reduced fidelity levels: write the components an algebraic condition fixes.
+    /// Quasi-static balls: each ball's equilibrium centre, and the in-plane force the next
+    /// step's balances take as given, from the step-end evaluation at `y`. Concentric
+    /// cage: the guiding ring's radial position and velocity (so the reported cage offset
+    /// and land eccentricity describe the cage the right-hand side used).
+    fn project(&mut self, _t: f64, y: &mut [f64]) {
+        let m = self.model;
+        let l = &m.layout;
+        if m.quasi_static_balls {
+            for j in 0..m.z {
+                let b = l.ball(j);
+                [y[b], y[b + 1]] = self.diag.ball_centre[j];
+                [y[b + 3], y[b + 4]] = self.diag.ball_other_force[j];
+            }
+        }
+        if m.concentric_cage {
+            let (i, o, c) = (l.inner, l.outer, l.cage);
+            let [py, pz, vy, vz] = if m.land.is_some() && !m.land_on_outer {
+                [y[i + 1], y[i + 2], y[i + 6], y[i + 7]]
+            } else {
+                [y[o], y[o + 1], y[o + 2], y[o + 3]]
+            };
+            [y[c + 1], y[c + 2], y[c + 7], y[c + 8]] = [py, pz, vy, vz];
+        }
+    }
     /// No step carries a ball across a defect unseen (`defect_step_bound`).
     fn max_step(&self, t: f64, y: &[f64]) -> f64 {
         defect_step_bound(self.model, t, y)

@@ -8,6 +8,13 @@
 //! Outer ring (4): y, z (m) and rates (pedestal, eq. 29).
 //! Cage (12): x, y, z (m), spin angle, tilt about Y, tilt about Z (rad), velocities
 //! (m/s) and angular velocity (rad/s).
+//!
+//! Reduced fidelity levels (`solver.fidelity`) keep the layout and hold some slots fixed
+//! between accepted steps (their derivative is zero; `BearingSystem::project` rewrites
+//! them): with quasi-static balls, a ball's x and r are its equilibrium position and the
+//! slots of their rates hold the lagged axial and radial force of its balance (N); with a
+//! concentric cage, the cage's y, z and their rates copy the guiding ring's, and its tilts
+//! and transverse angular velocities stay zero.
 
 pub const BALL: usize = 9;
 pub const INNER: usize = 10;

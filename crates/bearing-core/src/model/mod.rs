@@ -13,8 +13,8 @@ use crate::physics::race_contact::{ContactParams, Race, Strips};
 use crate::physics::rolling_resistance::RollingResistance;
 use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve, TractionLaw};
 use crate::scene::{
-    CageGuidance, CavityDrag, HertzModel, Ring, RollingResistanceModel, TiltMode, Traction,
-    ValidScene,
+    CageGuidance, CavityDrag, Fidelity, HertzModel, Ring, RollingResistanceModel, TiltMode,
+    Traction, ValidScene,
 };
 use std::f64::consts::PI;
 
@@ -67,6 +67,10 @@ pub struct Model {
     pub cage_windage: Option<CavityMedium>,
     /// Cage outer and inner radius, m (for the face windage).
     pub cage_radii: [f64; 2],
+    /// Ball centres held in quasi-static equilibrium (`solver.fidelity`), not integrated.
+    pub quasi_static_balls: bool,
+    /// Cage held concentric with its guiding ring and untilted; only its spin is integrated.
+    pub concentric_cage: bool,
 }
 
 impl Model {
@@ -283,6 +287,8 @@ impl Model {
             ball_drag: medium.map(|medium| BallDrag { medium, radius: rb }),
             cage_windage: medium,
             cage_radii: [ro, ri],
+            quasi_static_balls: scene.solver.fidelity != Fidelity::Full,
+            concentric_cage: scene.solver.fidelity == Fidelity::ConcentricCage,
         }
     }
 

@@ -1,0 +1,338 @@
+//! Quasi-static ball centres (the `quasi_static_balls` fidelity level): the axial and
+//! radial position of a ball at which its two race contacts and its centrifugal force
+//! balance, found by Newton's method at every evaluation of the right-hand side.
+//!
+//! The normal loads (Hertz with the contact damping, after any defect drop) and the
+//! centrifugal force `m r thd^2` are evaluated at every Newton iterate; the axial and
+//! radial components of the traction, rolling-resistance, pocket and drag forces enter as
+//! they were at the last accepted step (one step of lag, ~1e-5 s, in forces that change
+//! over a ball's passage through the load zone, ~1e-3 s). They are not small in their
+//! effect: left out, they move the contact angles enough to change the mean cage speed
+//! by 0.17 % on the Table-1 scene (docs/model.md).
+
+use crate::model::Model;
+use crate::physics::defect::race_defects_effect;
+use crate::physics::frames::Azimuth;
+use crate::physics::race_contact::{contact_geometry, Race, RingMotion};
+use nalgebra::Vector3;
+
+/// Newton iterations before the last iterate is taken as it is (quadratic convergence
+/// from the previous step's position needs 2-4).
+const MAX_ITERATIONS: usize = 30;
+/// An update below this (m) is the last: with contact deformations of micrometres
+/// (`delta` ~ 1e-6..1e-5 m), Newton's error after it is ~`size^2 / delta` <= 1e-12 m,
+/// 1e-9 of the ball radius, which changes the loads by ~1e-6 of their size.
+const QUADRATIC_RANGE: f64 = 1e-9;
+
+/// Normal force of one contact on the ball in the ball's (axial, radial) plane (N) and
+/// its derivative with respect to the ball's axial and radial position (N/m).
+#[inline]
+fn contact_in_plane(
+    race: &Race,
+    ring: &RingMotion,
+    centre: &Vector3<f64>,
+    velocity: &Vector3<f64>,
+    e_r: &Vector3<f64>,
+    damping: (f64, f64),
+    force_scale: f64,
+) -> ([f64; 2], [[f64; 2]; 2]) {
+    let g = contact_geometry(race, ring, centre);
+    let u = [g.normal.x, g.normal.dot(e_r)];
+    let outer = [[u[0] * u[0], u[0] * u[1]], [u[1] * u[0], u[1] * u[1]]];
+    // Out of contact: no force, and a stiffness along the normal that only steers the
+    // iteration back towards the race (the residual stays exact): the Hertz stiffness
+    // 1.5 k delta^0.5 at the deformation that carries `force_scale`,
+    // delta = (force_scale / k)^(2/3), so 1.5 k (force_scale / k)^(1/3).
+    let free = || {
+        let k = 1.5 * race.hertz.k * (force_scale / race.hertz.k).cbrt();
+        let mut j = [[0.0; 2]; 2];
+        for a in 0..2 {
+            for b in 0..2 {
+                j[a][b] = -k * outer[a][b];
+            }
+        }
+        ([0.0; 2], j)
+    };
+    if g.delta <= 0.0 {
+        return free();
+    }
+    let eff = if race.defects.is_empty() {
+        Default::default()
+    } else {
+        race_defects_effect(
+            &race.defects,
+            &g.azimuth.minus(&ring.spin_azimuth),
+            race.path_radius,
+            race.rx,
+            race.ball_radius,
+        )
+    };
+    let delta = g.delta - eff.drop;
+    if delta <= 0.0 {
+        return free();
+    }
+    let k = race.hertz.k;
+    let sq = delta.sqrt();
+    let (ratio, mass) = damping;
+    let ddelta = g.normal.dot(&(velocity - ring.velocity));
+    let c_damp = 2.0 * ratio * (1.5 * k * sq * mass).sqrt();
+    let q = (k * delta * sq + c_damp * ddelta).max(0.0);
+    if q == 0.0 {
+        return free();
+    }
+    let cos_psi = eff.psi.cos();
+    let fq = q * cos_psi;
+    // d(-q u)/dp = -(dq/d delta) u u^T - (q / dist) (I - u u^T); u is the unit vector
+    // from the curvature centre through the ball centre, dist their distance.
+    let kn = 1.5 * k * sq * cos_psi;
+    let dist = g.delta + race.free_distance;
+    let kt = fq / dist;
+    let mut j = [[0.0; 2]; 2];
+    for a in 0..2 {
+        for b in 0..2 {
+            let id = if a == b { 1.0 } else { 0.0 };
+            j[a][b] = -kn * outer[a][b] - kt * (id - outer[a][b]);
+        }
+    }
+    ([-fq * u[0], -fq * u[1]], j)
+}
+
+/// Axial and radial position (m) of the ball at azimuth `az` orbiting at `orbit_rate`
+/// (rad/s) in equilibrium between the rings, starting from `start` (the last accepted
+/// position); `other` is the axial and radial force (N) of everything but the normal
+/// loads and the centrifugal force, as it was at the last accepted step.
+pub fn ball_equilibrium(
+    m: &Model,
+    inner: &RingMotion,
+    outer: &RingMotion,
+    az: &Azimuth,
+    orbit_rate: f64,
+    start: [f64; 2],
+    other: [f64; 2],
+) -> [f64; 2] {
+    let e_r = az.e_r();
+    let e_t = az.e_t();
+    let mass = m.ball_mass;
+    let damping = (m.contact.damping_ratio, m.contact.ball_mass);
+    let w2 = orbit_rate * orbit_rate;
+    // a force scale: the centrifugal force, or 0.1 N for a ball at rest (a light preload)
+    let f_ref = (mass * start[1] * w2).max(0.1);
+    let residual = |p: [f64; 2]| {
+        let centre = Vector3::new(p[0], 0.0, 0.0) + p[1] * e_r;
+        let velocity = p[1] * orbit_rate * e_t;
+        let (fi, ji) = contact_in_plane(
+            &m.inner_race,
+            inner,
+            &centre,
+            &velocity,
+            &e_r,
+            damping,
+            f_ref,
+        );
+        let (fo, jo) = contact_in_plane(
+            &m.outer_race,
+            outer,
+            &centre,
+            &velocity,
+            &e_r,
+            damping,
+            f_ref,
+        );
+        let r = [
+            fi[0] + fo[0] + other[0],
+            fi[1] + fo[1] + mass * p[1] * w2 + other[1],
+        ];
+        let mut j = [[0.0; 2]; 2];
+        for a in 0..2 {
+            for b in 0..2 {
+                j[a][b] = ji[a][b] + jo[a][b];
+            }
+        }
+        j[1][1] += mass * w2;
+        (r, j)
+    };
+    let norm = |r: [f64; 2]| (r[0] * r[0] + r[1] * r[1]).sqrt();
+    let mut p = start;
+    let (mut r, mut j) = residual(p);
+    for _ in 0..MAX_ITERATIONS {
+        if norm(r) == 0.0 {
+            break;
+        }
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        if det == 0.0 || !det.is_finite() {
+            break;
+        }
+        let mut d = [
+            -(j[1][1] * r[0] - j[0][1] * r[1]) / det,
+            -(-j[1][0] * r[0] + j[0][0] * r[1]) / det,
+        ];
+        let size = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        if size <= QUADRATIC_RANGE {
+            // Newton converges quadratically here: the error left after this update is
+            // of order size^2 / delta (~1e-13 m), so the update is the last
+            p = [p[0] + d[0], p[1] + d[1]];
+            break;
+        }
+        // a long update may open or close a contact: backtrack while it makes the
+        // imbalance worse
+        let mut accepted = None;
+        for _ in 0..12 {
+            let trial = [p[0] + d[0], p[1] + d[1]];
+            let (rt, jt) = residual(trial);
+            if norm(rt) <= norm(r) {
+                accepted = Some((trial, rt, jt));
+                break;
+            }
+            d = [0.5 * d[0], 0.5 * d[1]];
+        }
+        let Some((trial, rt, jt)) = accepted else {
+            break;
+        };
+        p = trial;
+        r = rt;
+        j = jt;
+    }
+    p
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::preset_scene;
+    use nalgebra::Matrix3;
+
+    /// The preset's model with the inner ring pushed `axial` m along the axis (rings at rest
+    /// otherwise), and a ball at azimuth 0 where the rings' free geometry puts it.
+    fn setup(axial: f64) -> (Model, RingMotion, RingMotion, Azimuth, [f64; 2]) {
+        let m = Model::new(&preset_scene("h7005c").unwrap().validated().unwrap());
+        let inner = RingMotion::new(
+            Vector3::new(axial, 0.0, 0.0),
+            Matrix3::identity(),
+            Vector3::zeros(),
+            0.0,
+            0.0,
+        );
+        let outer = RingMotion::new(
+            Vector3::zeros(),
+            Matrix3::identity(),
+            Vector3::zeros(),
+            0.0,
+            0.0,
+        );
+        let start = [
+            0.5 * (m.inner_race.centre_axial + m.outer_race.centre_axial),
+            0.5 * m.pitch_diameter,
+        ];
+        (m, inner, outer, Azimuth::new(0.0), start)
+    }
+
+    /// Sum of the in-plane forces on the ball at `p` (N) and its Jacobian (N/m).
+    fn balance(
+        m: &Model,
+        inner: &RingMotion,
+        outer: &RingMotion,
+        az: &Azimuth,
+        w: f64,
+        p: [f64; 2],
+    ) -> ([f64; 2], [[f64; 2]; 2]) {
+        let e_r = az.e_r();
+        let centre = Vector3::new(p[0], 0.0, 0.0) + p[1] * e_r;
+        let velocity = p[1] * w * az.e_t();
+        let damping = (m.contact.damping_ratio, m.contact.ball_mass);
+        let (fi, ji) =
+            contact_in_plane(&m.inner_race, inner, &centre, &velocity, &e_r, damping, 1.0);
+        let (fo, jo) =
+            contact_in_plane(&m.outer_race, outer, &centre, &velocity, &e_r, damping, 1.0);
+        let r = [fi[0] + fo[0], fi[1] + fo[1] + m.ball_mass * p[1] * w * w];
+        let mut j = [[0.0; 2]; 2];
+        for a in 0..2 {
+            for b in 0..2 {
+                j[a][b] = ji[a][b] + jo[a][b];
+            }
+        }
+        j[1][1] += m.ball_mass * w * w;
+        (r, j)
+    }
+
+    /// A push of the inner ring that loads both contacts of the ball (found below).
+    fn loading_push() -> f64 {
+        for push in [2e-5, -2e-5] {
+            let (m, inner, outer, az, start) = setup(push);
+            let p = ball_equilibrium(&m, &inner, &outer, &az, 0.0, start, [0.0; 2]);
+            let (r, _) = balance(&m, &inner, &outer, &az, 0.0, p);
+            let e_r = az.e_r();
+            let centre = Vector3::new(p[0], 0.0, 0.0) + p[1] * e_r;
+            let gi = contact_geometry(&m.inner_race, &inner, &centre);
+            if gi.delta > 0.0 && r[0].abs() < 1.0 {
+                return push;
+            }
+        }
+        panic!("neither axial push loads the ball");
+    }
+
+    /// The analytic Jacobian is what Newton's quadratic convergence rests on: it matches
+    /// central differences (steps of 1e-9 m, ~1e-4 of the deformation: truncation error
+    /// ~1e-8 relative) to 1e-5 of its largest entry.
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let push = loading_push();
+        let (m, inner, outer, az, start) = setup(push);
+        let w = 1000.0;
+        let p = ball_equilibrium(&m, &inner, &outer, &az, w, start, [0.0; 2]);
+        // a point off equilibrium, both contacts still loaded
+        let p = [p[0] + 3e-7, p[1] - 2e-7];
+        let (_, j) = balance(&m, &inner, &outer, &az, w, p);
+        let h = 1e-9;
+        let scale = j.iter().flatten().fold(0.0_f64, |a, v| a.max(v.abs()));
+        for b in 0..2 {
+            let mut plus = p;
+            let mut minus = p;
+            plus[b] += h;
+            minus[b] -= h;
+            let (rp, _) = balance(&m, &inner, &outer, &az, w, plus);
+            let (rm, _) = balance(&m, &inner, &outer, &az, w, minus);
+            for a in 0..2 {
+                let fd = (rp[a] - rm[a]) / (2.0 * h);
+                assert!(
+                    (fd - j[a][b]).abs() < 1e-5 * scale,
+                    "d r{a} / d p{b}: analytic {:.6e}, differences {fd:.6e}",
+                    j[a][b]
+                );
+            }
+        }
+    }
+
+    /// From a start 2 um away (a step's worth of ball motion many times over), Newton lands
+    /// on the same position, where the forces balance to 1e-6 of the contact load (the
+    /// stopping rule's ~1e-12 m error times a stiffness of ~1e8 N/m is ~1e-4 N on ~100 N).
+    #[test]
+    fn equilibrium_balances_the_forces() {
+        let push = loading_push();
+        let (m, inner, outer, az, start) = setup(push);
+        let w = 1000.0;
+        let p = ball_equilibrium(&m, &inner, &outer, &az, w, start, [0.0; 2]);
+        let q = ball_equilibrium(
+            &m,
+            &inner,
+            &outer,
+            &az,
+            w,
+            [p[0] + 2e-6, p[1] - 2e-6],
+            [0.0; 2],
+        );
+        let (r, _) = balance(&m, &inner, &outer, &az, w, q);
+        let e_r = az.e_r();
+        let centre = Vector3::new(q[0], 0.0, 0.0) + q[1] * e_r;
+        let gi = contact_geometry(&m.inner_race, &inner, &centre);
+        let load = m.inner_race.hertz.k * gi.delta.powf(1.5);
+        assert!(load > 1.0, "the ball is loaded: {load} N");
+        assert!(
+            (r[0] * r[0] + r[1] * r[1]).sqrt() < 1e-6 * load,
+            "imbalance {r:?} N at a load of {load:.3} N"
+        );
+        assert!(
+            (p[0] - q[0]).abs() < 1e-11 && (p[1] - q[1]).abs() < 1e-11,
+            "{p:?} vs {q:?}"
+        );
+    }
+}
