@@ -11,9 +11,8 @@
 //! by 0.17 % on the Table-1 scene (docs/model.md).
 
 use crate::model::Model;
-use crate::physics::defect::race_defects_effect;
 use crate::physics::frames::Azimuth;
-use crate::physics::race_contact::{contact_geometry, Race, RingMotion};
+use crate::physics::race_contact::{contact_geometry, defects_effect_at, Race, RingMotion};
 use nalgebra::Vector3;
 
 /// Newton iterations before the last iterate is taken as it is (quadratic convergence
@@ -56,17 +55,7 @@ fn contact_in_plane(
     if g.delta <= 0.0 {
         return free();
     }
-    let eff = if race.defects.is_empty() {
-        Default::default()
-    } else {
-        race_defects_effect(
-            &race.defects,
-            &g.azimuth.minus(&ring.spin_azimuth),
-            race.path_radius,
-            race.rx,
-            race.ball_radius,
-        )
-    };
+    let eff = defects_effect_at(race, ring, &g.azimuth);
     let delta = g.delta - eff.drop;
     if delta <= 0.0 {
         return free();

@@ -1,7 +1,7 @@
 //! Ball-race contact: geometry (eqs. 2-7), Hertz load (eq. 8), EHL traction by strips
 //! over the contact ellipse (eqs. 9-18) and the defect modification (eqs. 34-36).
 
-use super::defect::{race_defects_effect, RaceDefect};
+use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::HertzContact;
 use super::rolling_resistance::RollingResistance;
@@ -171,6 +171,22 @@ pub struct ContactGeometry {
     pub tangent: Vector3<f64>,
 }
 
+/// Effect of the race's defects (eqs. 33-36) on a ball contact at `azimuth` (in the
+/// ring's tilt frame, eq. 3) of a ring turning with `ring`; none without defects.
+#[inline]
+pub fn defects_effect_at(race: &Race, ring: &RingMotion, azimuth: &Azimuth) -> DefectEffect {
+    if race.defects.is_empty() {
+        return DefectEffect::default();
+    }
+    race_defects_effect(
+        &race.defects,
+        &azimuth.minus(&ring.spin_azimuth),
+        race.path_radius,
+        race.rx,
+        race.ball_radius,
+    )
+}
+
 /// Geometry only (eqs. 2-7): deformation, contact angle, azimuth and the unit normal
 /// from the curvature centre through the ball centre (inertial).
 #[inline]
@@ -231,17 +247,7 @@ pub fn race_contact(
     if delta0 <= 0.0 {
         return out;
     }
-    let eff = if race.defects.is_empty() {
-        Default::default()
-    } else {
-        race_defects_effect(
-            &race.defects,
-            &g.azimuth.minus(&ring.spin_azimuth),
-            race.path_radius,
-            race.rx,
-            race.ball_radius,
-        )
-    };
+    let eff = defects_effect_at(race, ring, &g.azimuth);
     let delta = delta0 - eff.drop;
     out.delta = delta;
     out.defect_drop = eff.drop;
