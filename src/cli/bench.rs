@@ -5,10 +5,12 @@
 //! and reports run time against error relative to a tight reference; `bench stress` runs
 //! the stability stress suite (`bench_stress.rs`).
 
+use super::bench_comparison::{comparison_scene, parse_fidelity, read, ComparisonArgs, Reading};
 use super::result::CliResult;
-use bearing_core::scene::{fault_case_scene, FaultCase, Integrator, ValidScene};
+use crate::plots::{work_precision_svg, WorkPrecisionSeries};
+use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity, Integrator, Scene};
 use bearing_core::simulation::{simulate, RunControl, SimResult};
-use bearing_core::simulation_analysis::steady_band_rms;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
 pub struct BenchArgs {
@@ -27,37 +29,30 @@ pub enum BenchWhat {
     /// Run time against error of every integrator on the compound-fault H7005C, against a
     /// tight reference checked by a second method.
     WorkPrecision {
-        /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
-        #[arg(long, default_value = "table1")]
-        scene: String,
-        /// Fault case of the preset: none, inner, outer or compound.
-        #[arg(long, default_value = "compound")]
-        fault: FaultCase,
-        /// Simulated time per run, s.
-        #[arg(long, default_value_t = 0.5)]
-        duration: f64,
+        #[command(flatten)]
+        on: ComparisonArgs,
         /// Tolerances (rtol = atol) to test.
         #[arg(long, value_delimiter = ',', default_values_t = vec![1e-4, 1e-5, 1e-6])]
         tolerances: Vec<f64>,
         /// Integrators to test (snake_case names of `solver.integrator`).
         #[arg(long, value_delimiter = ',', default_values_t = vec!["rk4_adaptive".to_string(), "rk4_fsal".to_string(), "rosenbrock_w".to_string()])]
         methods: Vec<String>,
+        /// Fidelity levels to run each method at (snake_case names of `solver.fidelity`;
+        /// the Rosenbrock methods run at `full` only).
+        #[arg(long, value_delimiter = ',', default_values_t = vec!["full".to_string(), "quasi_static_balls".to_string(), "concentric_cage".to_string()])]
+        levels: Vec<String>,
         /// Tolerance of the reference (adaptive RK4), checked by fixed RK4 at 1 us.
         #[arg(long, default_value_t = 1e-8)]
         reference: f64,
+        /// Also write the work-precision chart (log error against log run time) here.
+        #[arg(long)]
+        svg: Option<PathBuf>,
     },
     /// Each fidelity level against the full model on one scene: run time, identified
     /// BPFO/BPFI, mean cage speed, band RMS below 20 kHz and peak contact loads.
     Fidelity {
-        /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
-        #[arg(long, default_value = "table1")]
-        scene: String,
-        /// Fault case of the preset: none, inner, outer or compound.
-        #[arg(long, default_value = "compound")]
-        fault: FaultCase,
-        /// Simulated time per run, s.
-        #[arg(long, default_value_t = 0.5)]
-        duration: f64,
+        #[command(flatten)]
+        on: ComparisonArgs,
         /// Levels to compare with `full` (snake_case names of `solver.fidelity`).
         #[arg(long, value_delimiter = ',', default_values_t = vec!["quasi_static_balls".to_string(), "concentric_cage".to_string()])]
         levels: Vec<String>,
@@ -87,28 +82,26 @@ pub fn main(args: BenchArgs) -> CliResult {
     match args.what {
         BenchWhat::Cases { duration } => cases(duration),
         BenchWhat::WorkPrecision {
-            scene,
-            fault,
-            duration,
+            on,
             tolerances,
             methods,
+            levels,
             reference,
-        } => work_precision(&scene, fault, duration, &tolerances, &methods, reference),
+            svg,
+        } => work_precision(
+            &on,
+            &tolerances,
+            &methods,
+            &levels,
+            reference,
+            svg.as_deref(),
+        ),
         BenchWhat::Fidelity {
-            scene,
-            fault,
-            duration,
+            on,
             levels,
             strips,
             integrator,
-        } => super::bench_fidelity::fidelity(
-            &scene,
-            fault,
-            duration,
-            &levels,
-            strips,
-            integrator.as_deref(),
-        ),
+        } => super::bench_fidelity::fidelity(&on, &levels, strips, integrator.as_deref()),
         BenchWhat::Stress {
             duration,
             only,
@@ -154,26 +147,17 @@ fn cases(duration: f64) -> CliResult {
 }
 
 fn scene(
-    kind: &str,
-    fault: FaultCase,
-    duration: f64,
+    on: &ComparisonArgs,
     tol: f64,
     integrator: Integrator,
-) -> Result<ValidScene, Box<dyn std::error::Error>> {
-    let mut s = fault_case_scene("h7005c", fault).expect("preset");
-    match kind {
-        "table1" => {}
-        "constant" => {
-            s.operating.speed.initial_rpm = 10_000.0;
-            s.operating.speed.ramp_time = 0.0;
-        }
-        other => return Err(format!("--scene: expected table1 or constant, got {other}").into()),
-    }
+    fidelity: Fidelity,
+) -> Result<Scene, Box<dyn std::error::Error>> {
+    let mut s = comparison_scene(on)?;
     s.solver.integrator = integrator;
-    s.solver.duration = duration;
+    s.solver.fidelity = fidelity;
     s.solver.rtol = tol;
     s.solver.atol = tol;
-    Ok(s.validated()?)
+    Ok(s)
 }
 
 fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>> {
@@ -181,59 +165,101 @@ fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>
         .map_err(|_| format!("--methods: unknown integrator {name}").into())
 }
 
-/// RMS of the pedestal Z acceleration below 20 kHz over the steady window, m/s^2.
-fn band_rms(r: &SimResult) -> f64 {
-    steady_band_rms(r, "outer_ring_accel_z", 20e3).expect("always recorded")
-}
-
+#[allow(clippy::too_many_arguments)]
 fn work_precision(
-    kind: &str,
-    fault: FaultCase,
-    duration: f64,
+    on: &ComparisonArgs,
     tolerances: &[f64],
     methods: &[String],
+    levels: &[String],
     tight: f64,
+    svg: Option<&Path>,
 ) -> CliResult {
     let methods = methods
         .iter()
         .map(|m| parse_integrator(m).map(|i| (m.as_str(), i)))
         .collect::<Result<Vec<_>, _>>()?;
+    let levels = levels
+        .iter()
+        .map(|l| parse_fidelity(l).map(|f| (l.as_str(), f)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let run = |s: &Scene| -> Result<(SimResult, Reading), Box<dyn std::error::Error>> {
+        let r = simulate(&s.clone().validated()?, RunControl::default())?;
+        let reading = read(s, &r)?;
+        Ok((r, reading))
+    };
+    let full = Fidelity::Full;
     eprintln!("reference: adaptive RK4 at {tight:.0e}");
-    let reference = simulate(
-        &scene(kind, fault, duration, tight, Integrator::Rk4Adaptive)?,
-        RunControl::default(),
-    )?;
-    let mut fixed = scene(kind, fault, duration, tight, Integrator::Rk4Fixed)?.into_scene();
+    let reference = scene(on, tight, Integrator::Rk4Adaptive, full)?;
+    let (reference, f) = run(&reference)?;
+    let mut fixed = scene(on, tight, Integrator::Rk4Fixed, full)?;
     fixed.solver.initial_step = 1e-6;
     eprintln!("second method: fixed-step RK4 at 1 us");
-    let check = simulate(&fixed.validated()?, RunControl::default())?;
-    let (c_ref, r_ref) = (reference.summary.mean_cage_speed, band_rms(&reference));
-    println!("| method | tolerance / step | wall time (s) | accepted steps | RHS evaluations | cage speed error | band RMS error |");
-    println!("| --- | --- | --- | --- | --- | --- | --- |");
-    let row = |name: &str, tol: String, r: &SimResult| {
+    let (check, c) = run(&fixed)?;
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
+    let errors = |g: &Reading| {
+        vec![
+            rel(g.cage, f.cage),
+            rel(g.band_rms, f.band_rms),
+            rel(g.bpfo, f.bpfo),
+            rel(g.bpfi, f.bpfi),
+        ]
+    };
+    println!("| method | fidelity | tolerance / step | wall time (s) | accepted steps | RHS evaluations | cage speed error | band RMS error | BPFO error | BPFI error |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let row = |name: &str, level: &str, tol: String, r: &SimResult, g: &Reading| {
+        let e = errors(g);
         println!(
-            "| {name} | {tol} | {:.2} | {} | {} | {:.2e} | {:.2e} |",
+            "| {name} | {level} | {tol} | {:.2} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |",
             r.summary.stats.wall_time,
             r.summary.stats.accepted_steps,
             r.summary.stats.rhs_evaluations,
-            (r.summary.mean_cage_speed - c_ref).abs() / c_ref,
-            (band_rms(r) - r_ref).abs() / r_ref
+            e[0],
+            e[1],
+            e[2],
+            e[3]
         )
     };
+    let tight_name = format!("{tight:.0e}");
     row(
         "reference: rk4_adaptive",
-        format!("{tight:.0e}"),
+        "full",
+        tight_name,
         &reference,
+        &f,
     );
-    row("check: rk4_fixed", "1e-6 s".into(), &check);
-    for &(name, integrator) in &methods {
-        for &t in tolerances {
-            let r = simulate(
-                &scene(kind, fault, duration, t, integrator)?,
-                RunControl::default(),
-            )?;
-            row(name, format!("{t:.0e}"), &r);
+    row("check: rk4_fixed", "full", "1e-6 s".into(), &check, &c);
+    let mut series = Vec::new();
+    for &(level_name, level) in &levels {
+        for &(name, integrator) in &methods {
+            if !level.is_full() && matches!(integrator, Integrator::RosenbrockW | Integrator::Auto)
+            {
+                eprintln!("{name} at {level_name}: refused by the scene validation, skipped");
+                continue;
+            }
+            let label = if level.is_full() {
+                name.to_string()
+            } else {
+                format!("{name}, {level_name}")
+            };
+            let mut points = Vec::new();
+            for &t in tolerances {
+                eprintln!("{label} at {t:.0e}");
+                let (r, g) = run(&scene(on, t, integrator, level)?)?;
+                row(name, level_name, format!("{t:.0e}"), &r, &g);
+                points.push((r.summary.stats.wall_time, errors(&g)));
+            }
+            series.push(WorkPrecisionSeries { label, points });
         }
+    }
+    if let Some(path) = svg {
+        let title = format!(
+            "H7005C {:?} fault, {} scene, {} s: relative error against rk4_adaptive at {tight:.0e}",
+            on.fault, on.scene, on.duration
+        );
+        let panels = ["cage speed", "band RMS", "BPFO", "BPFI"];
+        let chart = work_precision_svg(&title, &panels, &series)?;
+        std::fs::write(path, chart).map_err(|e| format!("--svg {}: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 pub mod analyze;
 pub mod bench;
+mod bench_comparison;
 mod bench_fidelity;
 mod bench_stress;
 mod command;

@@ -6,9 +6,11 @@ pub mod signal;
 pub mod spectrum;
 pub mod style;
 pub mod trend;
+pub mod work_precision;
 
 pub use error::PlotError;
 pub use kurtosis::kurtosis_svg;
 pub use signal::{signal_svg, SignalTrace};
 pub use spectrum::{spectra_grid_svg, spectrum_svg, Marker, SpectrumPanel};
 pub use trend::{trend_svg, TrendSeries};
+pub use work_precision::{work_precision_svg, WorkPrecisionSeries};

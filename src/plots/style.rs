@@ -10,9 +10,11 @@ pub const RED: RGBColor = RGBColor(214, 39, 40);
 pub const GREEN: RGBColor = RGBColor(44, 160, 44);
 pub const PURPLE: RGBColor = RGBColor(148, 103, 189);
 pub const ORANGE: RGBColor = RGBColor(255, 127, 14);
+pub const BROWN: RGBColor = RGBColor(140, 86, 75);
+pub const TEAL: RGBColor = RGBColor(23, 190, 207);
 
 /// Curves in drawing order (the first, black, is the reference: eq. 37).
-pub const SERIES_COLORS: [RGBColor; 6] = [INK, BLUE, RED, GREEN, PURPLE, ORANGE];
+pub const SERIES_COLORS: [RGBColor; 8] = [INK, BLUE, RED, GREEN, PURPLE, ORANGE, BROWN, TEAL];
 /// Characteristic-frequency markers: BPFO red, BPFI blue, then BSF, 2xBSF, FTF.
 pub const MARKER_COLORS: [RGBColor; 5] = [RED, BLUE, GREEN, PURPLE, ORANGE];
 

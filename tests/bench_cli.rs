@@ -1,0 +1,98 @@
+//! The engine benchmarks as a user runs them (`bearing-sim bench ...`), on scenes short
+//! enough for the test suite: they print their table, write their plot and refuse what the
+//! scene validation refuses. (Their figures are in docs/benchmarks.md; nothing is timed.)
+
+use std::process::Command;
+
+fn bench(args: &[&str]) -> (String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .arg("bench")
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    let (stdout, stderr) = (
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    );
+    assert!(out.status.success(), "{args:?} failed: {stderr}");
+    (stdout, stderr)
+}
+
+/// Table rows (not the header or its rule) whose first cell is `method`.
+fn rows<'a>(table: &'a str, method: &str) -> Vec<Vec<&'a str>> {
+    table
+        .lines()
+        .filter(|l| l.starts_with("| "))
+        .map(|l| {
+            l.trim_matches('|')
+                .split('|')
+                .map(str::trim)
+                .collect::<Vec<_>>()
+        })
+        .filter(|cells| cells[0] == method)
+        .collect()
+}
+
+#[test]
+fn work_precision_prints_every_method_and_level_and_plots_them() {
+    let dir = std::env::temp_dir().join(format!("bearing-sim-wp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("wp.svg");
+    let (table, log) = bench(&[
+        "work-precision",
+        "--duration",
+        "0.02",
+        "--tolerances",
+        "1e-4",
+        "--methods",
+        "rk4_fsal,rosenbrock_w",
+        "--levels",
+        "full,concentric_cage",
+        "--reference",
+        "1e-6",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    // reference and check, then rk4_fsal at both levels and rosenbrock_w at full only
+    assert_eq!(rows(&table, "reference: rk4_adaptive").len(), 1, "{table}");
+    assert_eq!(rows(&table, "check: rk4_fixed").len(), 1, "{table}");
+    let fsal = rows(&table, "rk4_fsal");
+    let levels: Vec<&str> = fsal.iter().map(|r| r[1]).collect();
+    assert_eq!(levels, ["full", "concentric_cage"], "{table}");
+    assert_eq!(rows(&table, "rosenbrock_w").len(), 1, "{table}");
+    assert!(
+        log.contains("rosenbrock_w at concentric_cage: refused"),
+        "{log}"
+    );
+    // the reduced level costs fewer evaluations than full at the same tolerance
+    let rhs = |r: &Vec<&str>| r[5].parse::<u64>().unwrap();
+    assert!(rhs(&fsal[1]) < rhs(&fsal[0]), "{table}");
+    let chart = std::fs::read_to_string(&svg).unwrap();
+    assert!(chart.starts_with("<svg"));
+    for label in [
+        "rk4_fsal",
+        "rk4_fsal, concentric_cage",
+        "rosenbrock_w",
+        "BPFI error",
+    ] {
+        assert!(chart.contains(label), "{label} missing from the chart");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn fidelity_compares_each_level_with_full() {
+    let (table, _) = bench(&[
+        "fidelity",
+        "--duration",
+        "0.02",
+        "--levels",
+        "quasi_static_balls",
+        "--strips",
+        "4",
+    ]);
+    assert_eq!(rows(&table, "full").len(), 1, "{table}");
+    let qs = rows(&table, "quasi_static_balls");
+    assert_eq!(qs.len(), 1, "{table}");
+    assert_eq!((qs[0][1], qs[0][2]), ("rk4_fsal", "4"), "{table}");
+}
