@@ -94,6 +94,9 @@ stress_tests!(
     too_long_run,
     fine_output,
     too_fine_output,
+    quasi_static_balls,
+    concentric_cage,
+    reduced_fidelity_implicit,
 );
 
 #[test]

@@ -7,8 +7,8 @@
 //! stress` runs them longer and prints a table.
 
 use crate::scene::{
-    fault_case_scene, preset_scene, CavityDrag, Fault, FaultCase, Integrator, Outputs, Ring,
-    RollingResistanceModel, Scene, Traction, ValidScene, ValidationErrors,
+    fault_case_scene, preset_scene, CavityDrag, Fault, FaultCase, Fidelity, Integrator, Outputs,
+    Ring, RollingResistanceModel, Scene, Traction, ValidScene, ValidationErrors,
 };
 use crate::simulation::{check_start, simulate, RunControl, SimError, SimResult};
 use std::f64::consts::PI;
@@ -335,7 +335,49 @@ pub fn catalogue() -> Vec<StressScene> {
             0.02,
             None,
         ),
+        // Fidelity levels: the same invariants with the ball centres (and the cage) held
+        // by algebraic balances instead of integrated.
+        s(
+            "quasi_static_balls",
+            "fidelity: quasi_static_balls, Table-1 compound fault at 10000 rpm",
+            |t| reduced(t, Fidelity::QuasiStaticBalls),
+            runs(SAME_COST),
+            0.02,
+            None,
+        ),
+        s(
+            "concentric_cage",
+            "fidelity: concentric_cage, Table-1 compound fault at 10000 rpm",
+            |t| reduced(t, Fidelity::ConcentricCage),
+            runs(SAME_COST),
+            0.02,
+            None,
+        ),
+        s(
+            "reduced_fidelity_implicit",
+            "fidelity: quasi_static_balls with rosenbrock_w (its step underflows)",
+            |t| {
+                let mut s = reduced(t, Fidelity::QuasiStaticBalls);
+                s.solver.integrator = Integrator::RosenbrockW;
+                s
+            },
+            Refused {
+                field: "solver.integrator",
+            },
+            0.02,
+            None,
+        ),
     ]
+}
+
+/// The Table-1 compound fault at a constant 10000 rpm at a reduced fidelity level.
+fn reduced(duration: f64, level: Fidelity) -> Scene {
+    let mut s = fault_case_scene("h7005c", FaultCase::Compound).expect("preset");
+    s.operating.speed.initial_rpm = 10_000.0;
+    s.operating.speed.ramp_time = 0.0;
+    s.solver.duration = duration;
+    s.solver.fidelity = level;
+    all_outputs(s)
 }
 
 /// Record every optional channel, so the no-NaN check covers them all.
