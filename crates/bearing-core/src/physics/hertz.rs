@@ -120,8 +120,46 @@ pub fn deflection(k: f64, q: f64) -> f64 {
     }
 }
 
+/// Cube root of a positive finite `x` to within 2 ulp of `f64::cbrt`, in fewer
+/// instructions: the contact's semi-axis `a = a_coef q^(1/3)` is taken twice per ball at
+/// every evaluation, and the library's cube root was 5 % of the right-hand side's
+/// instructions (callgrind). An exponent-thirding first guess (within ~10 %) and three
+/// Halley steps `y (y^3 + 2x) / (2y^3 + x)` (cubic convergence; two leave 6e-15). Zero, negative, subnormal and non-finite inputs go to `f64::cbrt`.
+#[inline]
+pub fn cube_root(x: f64) -> f64 {
+    if !(x >= f64::MIN_POSITIVE && x < f64::INFINITY) {
+        return x.cbrt();
+    }
+    // a third of the biased exponent (and mantissa bits), re-biased
+    let bits = x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE;
+    let mut y = f64::from_bits(bits);
+    for _ in 0..3 {
+        let y3 = y * y * y;
+        y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
+    }
+    y
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn cube_root_matches_the_library_to_two_ulp() {
+        // every decade a contact load can take (1e-12..1e6 N) and beyond, 2000 points each
+        let mut worst: f64 = 0.0;
+        for e in -300..300 {
+            for k in 0..2000 {
+                let x = (1.0 + k as f64 / 2000.0) * 10f64.powi(e);
+                let (a, b) = (super::cube_root(x), x.cbrt());
+                worst = worst.max(((a - b) / b).abs());
+            }
+        }
+        assert!(worst <= 2.0 * f64::EPSILON, "worst relative difference {worst:e}");
+        for x in [0.0, -8.0, f64::INFINITY, f64::NAN, 1e-310] {
+            let (a, b) = (super::cube_root(x), x.cbrt());
+            assert!(a == b || (a.is_nan() && b.is_nan()), "{x}: {a} vs {b}");
+        }
+    }
+
     use super::*;
 
     #[test]

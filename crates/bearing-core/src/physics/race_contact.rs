@@ -3,7 +3,7 @@
 
 use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
-use super::hertz::HertzContact;
+use super::hertz::{cube_root, HertzContact};
 use super::rolling_resistance::RollingResistance;
 use super::traction::{film_mu_over_s, ContactTraction, TractionLaw};
 use nalgebra::{Matrix3, Vector3};
@@ -353,7 +353,7 @@ pub fn strip_traction(
     let law = race.traction.at(q, um);
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
-    let a = race.hertz.a_coef * q.cbrt();
+    let a = race.hertz.a_coef * cube_root(q);
     let rb = race.ball_radius;
     let a_eff = a.min(0.999 * rb);
     let rp = race.r_prime;
