@@ -4,6 +4,7 @@
 use super::integrator::hermite;
 use super::output::{Channel, Channels};
 use super::rhs::{rhs, Diagnostics};
+use crate::model::layout::{cage, outer};
 use crate::model::Model;
 use crate::scene::Outputs;
 
@@ -97,10 +98,10 @@ impl Recorder {
                 &mut self.scratch_f,
                 Some(&mut self.diag),
             );
-            self.accel[0].push(self.scratch_f[o + 2]);
-            self.accel[1].push(self.scratch_f[o + 3]);
+            self.accel[0].push(self.scratch_f[o + outer::Y_DOT]);
+            self.accel[1].push(self.scratch_f[o + outer::Z_DOT]);
             if let Some(v) = self.cage.as_mut() {
-                v.push(interp(c + 9));
+                v.push(interp(c + cage::W_X));
             }
             if let Some(v) = self.cage_ecc.as_mut() {
                 v.push(m.cage_offset(&self.scratch_y).1);

@@ -4,7 +4,7 @@
 //! asked, fills preallocated diagnostics.
 
 use super::ball_equilibrium::ball_equilibrium;
-use crate::model::layout::Layout;
+use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion};
@@ -55,20 +55,24 @@ pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
     let i = l.inner;
     let o = l.outer;
     let inner = RingMotion::new(
-        Vector3::new(y[i], y[i + 1], y[i + 2]),
+        Vector3::new(y[i + inner::X], y[i + inner::Y], y[i + inner::Z]),
         if m.tilt_free {
-            tilt_matrix(y[i + 3], y[i + 4])
+            tilt_matrix(y[i + inner::TILT_Y], y[i + inner::TILT_Z])
         } else {
             Matrix3::identity()
         },
-        Vector3::new(y[i + 5], y[i + 6], y[i + 7]),
+        Vector3::new(
+            y[i + inner::X_DOT],
+            y[i + inner::Y_DOT],
+            y[i + inner::Z_DOT],
+        ),
         m.shaft_speed(t),
         m.shaft_angle(t),
     );
     let outer = RingMotion::new(
-        Vector3::new(0.0, y[o], y[o + 1]),
+        Vector3::new(0.0, y[o + outer::Y], y[o + outer::Z]),
         Matrix3::identity(),
-        Vector3::new(0.0, y[o + 2], y[o + 3]),
+        Vector3::new(0.0, y[o + outer::Y_DOT], y[o + outer::Z_DOT]),
         0.0,
         0.0,
     );
@@ -76,17 +80,25 @@ pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
 }
 
 /// Ball centre, velocity and angular velocity in inertial coordinates; `az` is the
-/// ball's azimuth `y[b + 2]`.
+/// ball's azimuth `y[b + ball::THETA]`.
 #[inline]
 pub fn ball_motion(y: &[f64], b: usize, az: &Azimuth) -> BallMotion {
-    let (x, r) = (y[b], y[b + 1]);
-    let (xd, rd, thd) = (y[b + 3], y[b + 4], y[b + 5]);
+    let (x, r) = (y[b + ball::X], y[b + ball::R]);
+    let (xd, rd, thd) = (
+        y[b + ball::X_DOT],
+        y[b + ball::R_DOT],
+        y[b + ball::THETA_DOT],
+    );
     let er = az.e_r();
     let et = az.e_t();
     BallMotion {
         centre: Vector3::new(x, 0.0, 0.0) + r * er,
         velocity: Vector3::new(xd, 0.0, 0.0) + rd * er + r * thd * et,
-        omega: az.from_frame(&Vector3::new(y[b + 6], y[b + 7], y[b + 8])),
+        omega: az.from_frame(&Vector3::new(
+            y[b + ball::W_X],
+            y[b + ball::W_R],
+            y[b + ball::W_T],
+        )),
     }
 }
 
@@ -95,11 +107,11 @@ pub fn ball_motion(y: &[f64], b: usize, az: &Azimuth) -> BallMotion {
 pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
     let c = m.layout.cage;
     CageMotion {
-        centre: Vector3::new(y[c], y[c + 1], y[c + 2]),
-        velocity: Vector3::new(y[c + 6], y[c + 7], y[c + 8]),
-        rot: tilt_matrix(y[c + 4], y[c + 5]),
-        spin_angle: y[c + 3],
-        omega: Vector3::new(y[c + 9], y[c + 10], y[c + 11]),
+        centre: Vector3::new(y[c + cage::X], y[c + cage::Y], y[c + cage::Z]),
+        velocity: Vector3::new(y[c + cage::X_DOT], y[c + cage::Y_DOT], y[c + cage::Z_DOT]),
+        rot: tilt_matrix(y[c + cage::TILT_Y], y[c + cage::TILT_Z]),
+        spin_angle: y[c + cage::SPIN],
+        omega: Vector3::new(y[c + cage::W_X], y[c + cage::W_Y], y[c + cage::W_Z]),
     }
 }
 
@@ -116,11 +128,11 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         };
         let c = l.cage;
         CageMotion {
-            centre: Vector3::new(y[c], ring.centre.y, ring.centre.z),
+            centre: Vector3::new(y[c + cage::X], ring.centre.y, ring.centre.z),
             velocity: Vector3::new(0.0, ring.velocity.y, ring.velocity.z),
             rot: Matrix3::identity(),
-            spin_angle: y[c + 3],
-            omega: Vector3::new(y[c + 9], 0.0, 0.0),
+            spin_angle: y[c + cage::SPIN],
+            omega: Vector3::new(y[c + cage::W_X], 0.0, 0.0),
         }
     } else {
         cage_motion(m, y)
@@ -136,15 +148,27 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
 
     for j in 0..m.z {
         let b = l.ball(j);
-        let az = Azimuth::new(y[b + 2]);
+        let az = Azimuth::new(y[b + ball::THETA]);
         let ball = if m.quasi_static_balls {
-            let thd = y[b + 5];
-            let other = [y[b + 3], y[b + 4]];
-            let [x, r] = ball_equilibrium(m, &inner, &outer, &az, thd, [y[b], y[b + 1]], other);
+            let thd = y[b + ball::THETA_DOT];
+            let other = [y[b + ball::X_DOT], y[b + ball::R_DOT]];
+            let [x, r] = ball_equilibrium(
+                m,
+                &inner,
+                &outer,
+                &az,
+                thd,
+                [y[b + ball::X], y[b + ball::R]],
+                other,
+            );
             BallMotion {
                 centre: Vector3::new(x, 0.0, 0.0) + r * az.e_r(),
                 velocity: r * thd * az.e_t(),
-                omega: az.from_frame(&Vector3::new(y[b + 6], y[b + 7], y[b + 8])),
+                omega: az.from_frame(&Vector3::new(
+                    y[b + ball::W_X],
+                    y[b + ball::W_R],
+                    y[b + ball::W_T],
+                )),
             }
         } else {
             ball_motion(y, b, &az)
@@ -171,42 +195,45 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         f_cage += pc.force_on_cage;
         m_cage += pc.moment_on_cage;
 
-        let thd = y[b + 5];
+        let thd = y[b + ball::THETA_DOT];
         let fa = az.to_frame(&f);
         let ma = az.to_frame(&mo);
-        dy[b + 2] = thd;
+        dy[b + ball::THETA] = thd;
         if m.quasi_static_balls {
             // The centre sits where its loads balance (ball_equilibrium); it is not
             // advanced: the accepted step writes it, and the in-plane force of everything
             // but the normal loads and the centrifugal force, into the state
             // (`BearingSystem::project`).
             let r = ball.centre.dot(&az.e_r());
-            dy[b] = 0.0;
-            dy[b + 1] = 0.0;
-            dy[b + 3] = 0.0;
-            dy[b + 4] = 0.0;
-            dy[b + 5] = fa.z / (mb * r);
+            dy[b + ball::X] = 0.0;
+            dy[b + ball::R] = 0.0;
+            dy[b + ball::X_DOT] = 0.0;
+            dy[b + ball::R_DOT] = 0.0;
+            dy[b + ball::THETA_DOT] = fa.z / (mb * r);
             if let Some(d) = diag.as_deref_mut() {
                 // at the balance, normal + centrifugal + lagged other = 0, so the other
                 // forces now are the net in-plane force, plus centrifugal, plus the lagged
                 d.ball_centre[j] = [ball.centre.x, r];
-                d.ball_other_force[j] = [fa.x + y[b + 3], fa.y + mb * r * thd * thd + y[b + 4]];
+                d.ball_other_force[j] = [
+                    fa.x + y[b + ball::X_DOT],
+                    fa.y + mb * r * thd * thd + y[b + ball::R_DOT],
+                ];
             }
         } else {
-            let (r, rd) = (y[b + 1], y[b + 4]);
-            dy[b] = y[b + 3];
-            dy[b + 1] = rd;
+            let (r, rd) = (y[b + ball::R], y[b + ball::R_DOT]);
+            dy[b + ball::X] = y[b + ball::X_DOT];
+            dy[b + ball::R] = rd;
             // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
-            dy[b + 3] = fa.x / mb;
-            dy[b + 4] = fa.y / mb + r * thd * thd;
-            dy[b + 5] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
+            dy[b + ball::X_DOT] = fa.x / mb;
+            dy[b + ball::R_DOT] = fa.y / mb + r * thd * thd;
+            dy[b + ball::THETA_DOT] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
         }
         // eq. 32 for a sphere, in the azimuth frame turning at thd about X:
         // dw/dt = M / I - thd e_x x w (the gyroscopic coupling)
-        let (wr, wt) = (y[b + 7], y[b + 8]);
-        dy[b + 6] = ma.x / ib;
-        dy[b + 7] = ma.y / ib + thd * wt;
-        dy[b + 8] = ma.z / ib - thd * wr;
+        let (wr, wt) = (y[b + ball::W_R], y[b + ball::W_T]);
+        dy[b + ball::W_X] = ma.x / ib;
+        dy[b + ball::W_R] = ma.y / ib + thd * wt;
+        dy[b + ball::W_T] = ma.z / ib - thd * wr;
 
         if let Some(d) = diag.as_deref_mut() {
             d.inner_load[j] = ci.load;
@@ -272,49 +299,53 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     let i = l.inner;
     let mi = m.inner_mass;
     for k in 0..3 {
-        dy[i + k] = y[i + 5 + k];
-        dy[i + 5 + k] = (m.applied_force[k] + f_inner[k]) / mi;
+        dy[i + inner::X + k] = y[i + inner::X_DOT + k];
+        dy[i + inner::X_DOT + k] = (m.applied_force[k] + f_inner[k]) / mi;
     }
     if m.tilt_free {
-        dy[i + 3] = y[i + 8];
-        dy[i + 4] = y[i + 9];
-        dy[i + 8] = (m.applied_moment[0] + m_inner.y) / m.inner_tilt_inertia;
-        dy[i + 9] = (m.applied_moment[1] + m_inner.z) / m.inner_tilt_inertia;
+        dy[i + inner::TILT_Y] = y[i + inner::TILT_Y_DOT];
+        dy[i + inner::TILT_Z] = y[i + inner::TILT_Z_DOT];
+        dy[i + inner::TILT_Y_DOT] = (m.applied_moment[0] + m_inner.y) / m.inner_tilt_inertia;
+        dy[i + inner::TILT_Z_DOT] = (m.applied_moment[1] + m_inner.z) / m.inner_tilt_inertia;
     } else {
-        dy[i + 3] = 0.0;
-        dy[i + 4] = 0.0;
-        dy[i + 8] = 0.0;
-        dy[i + 9] = 0.0;
+        dy[i + inner::TILT_Y] = 0.0;
+        dy[i + inner::TILT_Z] = 0.0;
+        dy[i + inner::TILT_Y_DOT] = 0.0;
+        dy[i + inner::TILT_Z_DOT] = 0.0;
     }
 
     // Outer ring on its pedestal, eq. 29.
     let o = l.outer;
-    let ay = (f_outer.y - m.pedestal_k[0] * y[o] - m.pedestal_c[0] * y[o + 2]) / m.pedestal_mass;
+    let ay =
+        (f_outer.y - m.pedestal_k[0] * y[o + outer::Y] - m.pedestal_c[0] * y[o + outer::Y_DOT])
+            / m.pedestal_mass;
     let az =
-        (f_outer.z - m.pedestal_k[1] * y[o + 1] - m.pedestal_c[1] * y[o + 3]) / m.pedestal_mass;
-    dy[o] = y[o + 2];
-    dy[o + 1] = y[o + 3];
-    dy[o + 2] = ay;
-    dy[o + 3] = az;
+        (f_outer.z - m.pedestal_k[1] * y[o + outer::Z] - m.pedestal_c[1] * y[o + outer::Z_DOT])
+            / m.pedestal_mass;
+    dy[o + outer::Y] = y[o + outer::Y_DOT];
+    dy[o + outer::Z] = y[o + outer::Z_DOT];
+    dy[o + outer::Y_DOT] = ay;
+    dy[o + outer::Z_DOT] = az;
 
     // Cage, eqs. 31-32 (small tilt: body and inertial axes coincide to first order).
     let c = l.cage;
     let mc = m.cage_mass;
     let [ix, id] = m.cage_inertia;
     for k in 0..3 {
-        dy[c + k] = y[c + 6 + k];
-        dy[c + 6 + k] = f_cage[k] / mc;
+        dy[c + cage::X + k] = y[c + cage::X_DOT + k];
+        dy[c + cage::X_DOT + k] = f_cage[k] / mc;
     }
-    let (wx, wy, wz) = (y[c + 9], y[c + 10], y[c + 11]);
-    dy[c + 3] = wx;
-    dy[c + 4] = wy;
-    dy[c + 5] = wz;
-    dy[c + 9] = (m_cage.x + cage_torque_x) / ix;
-    dy[c + 10] = (m_cage.y + (id - ix) * wx * wz) / id;
-    dy[c + 11] = (m_cage.z + (ix - id) * wx * wy) / id;
+    let (wx, wy, wz) = (y[c + cage::W_X], y[c + cage::W_Y], y[c + cage::W_Z]);
+    dy[c + cage::SPIN] = wx;
+    dy[c + cage::TILT_Y] = wy;
+    dy[c + cage::TILT_Z] = wz;
+    dy[c + cage::W_X] = (m_cage.x + cage_torque_x) / ix;
+    dy[c + cage::W_Y] = (m_cage.y + (id - ix) * wx * wz) / id;
+    dy[c + cage::W_Z] = (m_cage.z + (ix - id) * wx * wy) / id;
     if m.concentric_cage {
         // only the axial position and the spin move
-        for k in [1, 2, 4, 5, 7, 8, 10, 11] {
+        use cage::*;
+        for k in [Y, Z, TILT_Y, TILT_Z, Y_DOT, Z_DOT, W_Y, W_Z] {
             dy[c + k] = 0.0;
         }
     }

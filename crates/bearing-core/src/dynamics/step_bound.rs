@@ -1,6 +1,7 @@
 //! Defects are never stepped over: the step is bounded by the time to the next defect
 //! edge plus a tenth of the transit.
 
+use crate::model::layout::ball;
 use crate::model::Model;
 use crate::physics::defect::wrap_angle;
 use std::f64::consts::TAU;
@@ -14,11 +15,11 @@ pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64 {
         for d in &race.defects {
             for j in 0..m.z {
                 let b = m.layout.ball(j);
-                let rel = y[b + 5] - ring_speed;
+                let rel = y[b + ball::THETA_DOT] - ring_speed;
                 if rel.abs() < 1e-9 {
                     continue;
                 }
-                let delta = wrap_angle(y[b + 2] - ring_angle - d.angle);
+                let delta = wrap_angle(y[b + ball::THETA] - ring_angle - d.angle);
                 let transit = 2.0 * d.half_angle / rel.abs();
                 let to_entry = if delta.abs() < d.half_angle {
                     0.0

@@ -5,7 +5,7 @@ use super::integrator::OdeSystem;
 use super::rhs::{rhs, Diagnostics};
 use super::rosenbrock::JacobianSystem;
 use super::step_bound::defect_step_bound;
-use crate::model::layout::{BALL, CAGE, INNER, OUTER};
+use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
 
 /// The model as an ODE system.
@@ -38,18 +38,33 @@ impl OdeSystem for BearingSystem<'_> {
         if m.quasi_static_balls {
             for j in 0..m.z {
                 let b = l.ball(j);
-                [y[b], y[b + 1]] = self.diag.ball_centre[j];
-                [y[b + 3], y[b + 4]] = self.diag.ball_other_force[j];
+                [y[b + ball::X], y[b + ball::R]] = self.diag.ball_centre[j];
+                [y[b + ball::X_DOT], y[b + ball::R_DOT]] = self.diag.ball_other_force[j];
             }
         }
         if m.concentric_cage {
             let (i, o, c) = (l.inner, l.outer, l.cage);
             let [py, pz, vy, vz] = if m.land.is_some() && !m.land_on_outer {
-                [y[i + 1], y[i + 2], y[i + 6], y[i + 7]]
+                [
+                    y[i + inner::Y],
+                    y[i + inner::Z],
+                    y[i + inner::Y_DOT],
+                    y[i + inner::Z_DOT],
+                ]
             } else {
-                [y[o], y[o + 1], y[o + 2], y[o + 3]]
+                [
+                    y[o + outer::Y],
+                    y[o + outer::Z],
+                    y[o + outer::Y_DOT],
+                    y[o + outer::Z_DOT],
+                ]
             };
-            [y[c + 1], y[c + 2], y[c + 7], y[c + 8]] = [py, pz, vy, vz];
+            [
+                y[c + cage::Y],
+                y[c + cage::Z],
+                y[c + cage::Y_DOT],
+                y[c + cage::Z_DOT],
+            ] = [py, pz, vy, vz];
         }
     }
     /// No step carries a ball across a defect unseen (`defect_step_bound`).

@@ -16,6 +16,7 @@ use crate::scene::{
     CageGuidance, CavityDrag, Fidelity, HertzModel, Ring, RollingResistanceModel, TiltMode,
     Traction, ValidScene,
 };
+use layout::{cage, inner, outer};
 use std::f64::consts::PI;
 
 use layout::Layout;
@@ -321,11 +322,11 @@ impl Model {
     pub fn cage_offset(&self, y: &[f64]) -> ([f64; 2], f64) {
         let (c, o, i) = (self.layout.cage, self.layout.outer, self.layout.inner);
         let (gy, gz) = if self.land.is_some() && !self.land_on_outer {
-            (y[i + 1], y[i + 2])
+            (y[i + inner::Y], y[i + inner::Z])
         } else {
-            (y[o], y[o + 1])
+            (y[o + outer::Y], y[o + outer::Z])
         };
-        let d = [y[c + 1] - gy, y[c + 2] - gz];
+        let d = [y[c + cage::Y] - gy, y[c + cage::Z] - gz];
         let scale = self.land.as_ref().map_or(1.0, |l| l.clearance);
         (d, d[0].hypot(d[1]) / scale)
     }

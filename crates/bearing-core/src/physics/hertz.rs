@@ -153,7 +153,10 @@ mod tests {
                 worst = worst.max(((a - b) / b).abs());
             }
         }
-        assert!(worst <= 2.0 * f64::EPSILON, "worst relative difference {worst:e}");
+        assert!(
+            worst <= 2.0 * f64::EPSILON,
+            "worst relative difference {worst:e}"
+        );
         for x in [0.0, -8.0, f64::INFINITY, f64::NAN, 1e-310] {
             let (a, b) = (super::cube_root(x), x.cbrt());
             assert!(a == b || (a.is_nan() && b.is_nan()), "{x}: {a} vs {b}");

@@ -1,6 +1,7 @@
 //! The dynamic model's state at t = 0, built from a quasi-static equilibrium.
 
 use super::solver::QsState;
+use crate::model::layout::{ball, cage, inner, outer};
 use crate::model::Model;
 
 /// State vector at t = 0 from a quasi-static solution at the initial speed.
@@ -15,37 +16,37 @@ pub fn initial_state(m: &Model, qs: &QsState) -> Vec<f64> {
         let b = l.ball(j);
         let [x, r] = qs.balls[j];
         let [thd, wx, wr] = qs.kinematics[j];
-        y[b] = x;
-        y[b + 2] = m.pocket_angles[j];
+        y[b + ball::X] = x;
+        y[b + ball::THETA] = m.pocket_angles[j];
         // ball radius measured from the displaced outer ring centre; the shift is small
         // against the ball spacing, so the azimuth is kept
-        let (s, c) = y[b + 2].sin_cos();
+        let (s, c) = y[b + ball::THETA].sin_cos();
         let py = -r * s + oy;
         let pz = r * c + oz;
-        y[b + 1] = (py * py + pz * pz).sqrt();
-        y[b + 2] = (-py).atan2(pz);
-        y[b + 5] = thd;
-        y[b + 6] = wx;
-        y[b + 7] = wr;
+        y[b + ball::R] = (py * py + pz * pz).sqrt();
+        y[b + ball::THETA] = (-py).atan2(pz);
+        y[b + ball::THETA_DOT] = thd;
+        y[b + ball::W_X] = wx;
+        y[b + ball::W_R] = wr;
         cage_speed += thd / m.z as f64;
     }
     let i = l.inner;
-    y[i] = qs.ring[0];
-    y[i + 1] = qs.ring[1] + oy;
-    y[i + 2] = qs.ring[2] + oz;
-    y[i + 3] = qs.ring[3];
-    y[i + 4] = qs.ring[4];
+    y[i + inner::X] = qs.ring[0];
+    y[i + inner::Y] = qs.ring[1] + oy;
+    y[i + inner::Z] = qs.ring[2] + oz;
+    y[i + inner::TILT_Y] = qs.ring[3];
+    y[i + inner::TILT_Z] = qs.ring[4];
     let o = l.outer;
-    y[o] = oy;
-    y[o + 1] = oz;
+    y[o + outer::Y] = oy;
+    y[o + outer::Z] = oz;
     let c = l.cage;
     if m.land.is_some() && !m.land_on_outer {
-        y[c + 1] = y[i + 1];
-        y[c + 2] = y[i + 2];
+        y[c + cage::Y] = y[i + inner::Y];
+        y[c + cage::Z] = y[i + inner::Z];
     } else {
-        y[c + 1] = oy;
-        y[c + 2] = oz;
+        y[c + cage::Y] = oy;
+        y[c + cage::Z] = oz;
     }
-    y[c + 9] = cage_speed;
+    y[c + cage::W_X] = cage_speed;
     y
 }
