@@ -24,7 +24,8 @@ macro_rules! slots {
     ($(#[$doc:meta])* $body:ident { $($(#[$sdoc:meta])* $slot:ident: $kind:ident,)* }) => {
         $(#[$doc])*
         pub mod $body {
-            use super::Kind;
+            // the full path: `super` would read, to a file-level import scan, as model/
+            use crate::model::layout::Kind;
             slots!(@offsets 0usize; $($(#[$sdoc])* $slot,)*);
             /// Kind of each slot, in order.
             pub const KINDS: &[Kind] = &[$(Kind::$kind),*];
