@@ -25,12 +25,14 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_MAX_QUEUED", default_value_t = 1000)]
     pub max_queued: i64,
 
-    /// Comma-separated origins allowed by CORS (e.g. `http://localhost:3000`); empty: none.
+    /// Comma-separated origins allowed by CORS (e.g. `http://localhost:3000`), or `*` for
+    /// any origin; empty: none.
     #[arg(
         long,
         env = "BEARING_SIM_CORS_ORIGINS",
         value_delimiter = ',',
-        default_value = ""
+        default_value = "",
+        value_parser = parse_cors_origin
     )]
     pub cors_origins: Vec<String>,
 
@@ -84,4 +86,27 @@ impl Config {
     pub fn heartbeat_interval(&self) -> std::time::Duration {
         std::time::Duration::from_millis((self.lease_ms() / 3).clamp(50, 400) as u64)
     }
+}
+
+/// One `--cors-origins` entry, checked before the service binds: empty (none), `*` (any
+/// origin), or `scheme://host[:port]` as a browser sends it in `Origin` (no path, no
+/// trailing slash), so a typo is refused at start instead of failing every request.
+fn parse_cors_origin(s: &str) -> Result<String, String> {
+    let o = s.trim();
+    if o.is_empty() || o == "*" {
+        return Ok(o.to_string());
+    }
+    let rest = o
+        .strip_prefix("http://")
+        .or_else(|| o.strip_prefix("https://"))
+        .ok_or_else(|| format!("{o:?} must start with http:// or https:// (or be *)"))?;
+    if rest.is_empty() || rest.contains('/') {
+        return Err(format!(
+            "{o:?} must be scheme://host[:port] with no path or trailing slash"
+        ));
+    }
+    if axum::http::HeaderValue::from_str(o).is_err() || o.chars().any(char::is_whitespace) {
+        return Err(format!("{o:?} is not a valid Origin header value"));
+    }
+    Ok(o.to_string())
 }

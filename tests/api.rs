@@ -610,3 +610,38 @@ async fn long_poll_holds_an_unchanged_job_until_it_changes() {
     let (st, h, body) = get_json(&c, &format!("{url}?wait=61")).await;
     assert_problem(st, &h, &body, 400);
 }
+
+/// `--cors-origins '*'` allows any origin (it used to panic after "listening on"), and a
+/// malformed origin is refused when the flags are parsed, before the service binds.
+#[tokio::test]
+async fn cors_wildcard_allows_any_origin_and_bad_origins_are_refused_up_front() {
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "1", "--cors-origins", "*"]);
+    let r = client()
+        .request(reqwest::Method::OPTIONS, s.url("/v1/presets"))
+        .header("origin", "http://any.example")
+        .header("access-control-request-method", "GET")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.headers()["access-control-allow-origin"], "*");
+
+    let bin = env!("CARGO_BIN_EXE_bearing-sim");
+    for bad in ["http://lab.example/", "lab.example", "http://"] {
+        let out = std::process::Command::new(bin)
+            .args(["serve", "--bind", "127.0.0.1:0", "--cors-origins", bad])
+            .output()
+            .unwrap();
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        assert!(!out.status.success(), "{bad}: accepted");
+        assert!(
+            !stdout.contains("listening on"),
+            "{bad}: bound first: {stdout}"
+        );
+        assert!(stderr.contains("--cors-origins"), "{bad}: {stderr}");
+    }
+}

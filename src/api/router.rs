@@ -43,19 +43,30 @@ pub fn router(state: AppState) -> Router {
     app
 }
 
+/// CORS for the configured origins (checked when the configuration was parsed): `*`
+/// anywhere in the list allows any origin (tower-http's list refuses a wildcard).
 fn cors_layer(origins: &[String]) -> Option<CorsLayer> {
-    let origins: Vec<HeaderValue> = origins
+    let origins: Vec<&str> = origins
         .iter()
         .map(|o| o.trim())
         .filter(|o| !o.is_empty())
-        .filter_map(|o| HeaderValue::from_str(o).ok())
         .collect();
     if origins.is_empty() {
         return None;
     }
+    let allow = if origins.contains(&"*") {
+        AllowOrigin::any()
+    } else {
+        AllowOrigin::list(
+            origins
+                .iter()
+                .filter_map(|o| HeaderValue::from_str(o).ok())
+                .collect::<Vec<_>>(),
+        )
+    };
     Some(
         CorsLayer::new()
-            .allow_origin(AllowOrigin::list(origins))
+            .allow_origin(allow)
             .allow_methods([Method::GET, Method::POST, Method::DELETE, Method::OPTIONS])
             .allow_headers([
                 header::CONTENT_TYPE,
