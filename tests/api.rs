@@ -106,6 +106,36 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     let (st, h, body) = post_json(&c, &sims, &big).await;
     assert_problem(st, &h, &body, 413);
 
+    // 413 at once for a declared length over the limit, before the body is read: 400 MB
+    // declared, 16 bytes sent, and the socket left open (it used to wait for the 30 s
+    // request timeout and answer 408)
+    {
+        use std::io::{Read, Write};
+        let addr = s.base.trim_start_matches("http://").to_string();
+        let mut sock = std::net::TcpStream::connect(&addr).unwrap();
+        sock.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        write!(
+            sock,
+            "POST /v1/simulations HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: 400000000\r\n\r\n{{\"preset\": \"h7\"}}"
+        )
+        .unwrap();
+        let mut answer = Vec::new();
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = sock.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            answer.extend_from_slice(&buf[..n]);
+            if answer.windows(4).any(|w| w == b"\r\n\r\n") && answer.ends_with(b"}") {
+                break;
+            }
+        }
+        let answer = String::from_utf8_lossy(&answer);
+        assert!(answer.starts_with("HTTP/1.1 413"), "{answer}");
+        assert!(answer.contains("application/problem+json"), "{answer}");
+        assert!(answer.contains("400000000"), "{answer}");
+    }
+
     // 404: unknown id and unknown route; 405: wrong method
     let (st, h, body) = get_json(&c, &s.url("/v1/simulations/does-not-exist")).await;
     assert_problem(st, &h, &body, 404);
