@@ -41,6 +41,9 @@ impl ValidationErrors {
     }
 }
 
+/// Most defects a scene may have.
+pub const MAX_FAULTS: usize = 16;
+
 struct Checker {
     errs: Vec<FieldError>,
 }
@@ -315,38 +318,46 @@ impl Scene {
         c.nonneg("operating.pedestal.damping_y", p.damping_y, "N s/m");
         c.nonneg("operating.pedestal.damping_z", p.damping_z, "N s/m");
 
-        for (i, f) in self.faults.iter().enumerate() {
-            let base = format!("faults[{i}]");
-            c.finite(&format!("{base}.angle"), f.angle);
-            let w_ok = c.pos(&format!("{base}.width"), f.width, "m");
-            c.pos(&format!("{base}.depth"), f.depth, "m");
-            if w_ok && geom_ok {
-                // A defect wider than the raceway (the groove arc a ball can touch, taken as
-                // the ball diameter) is no longer a localized defect.
-                if f.width >= b.ball_diameter {
-                    c.push(
-                        &format!("{base}.width"),
-                        format!(
-                            "must be < the raceway width ({:.4e} m, the ball diameter)",
-                            b.ball_diameter
-                        ),
-                    );
-                }
-                let r = 0.5
-                    * match f.ring {
-                        Ring::Inner => b.inner_groove_diameter,
-                        Ring::Outer => b.outer_groove_diameter,
-                    };
-                if f.width >= std::f64::consts::PI * r / b.ball_count as f64 {
-                    c.push(
-                        &format!("{base}.width"),
-                        "must be shorter than half the ball spacing on its raceway",
-                    );
+        // The cap first: a scene with 100 000 bad defects gets one error, not 200 001.
+        if self.faults.len() > MAX_FAULTS {
+            c.push(
+                "faults",
+                format!(
+                    "at most {MAX_FAULTS} defects, got {} (the defects themselves were not checked)",
+                    self.faults.len()
+                ),
+            );
+        } else {
+            for (i, f) in self.faults.iter().enumerate() {
+                let base = format!("faults[{i}]");
+                c.finite(&format!("{base}.angle"), f.angle);
+                let w_ok = c.pos(&format!("{base}.width"), f.width, "m");
+                c.pos(&format!("{base}.depth"), f.depth, "m");
+                if w_ok && geom_ok {
+                    // A defect wider than the raceway (the groove arc a ball can touch, taken as
+                    // the ball diameter) is no longer a localized defect.
+                    if f.width >= b.ball_diameter {
+                        c.push(
+                            &format!("{base}.width"),
+                            format!(
+                                "must be < the raceway width ({:.4e} m, the ball diameter)",
+                                b.ball_diameter
+                            ),
+                        );
+                    }
+                    let r = 0.5
+                        * match f.ring {
+                            Ring::Inner => b.inner_groove_diameter,
+                            Ring::Outer => b.outer_groove_diameter,
+                        };
+                    if f.width >= std::f64::consts::PI * r / b.ball_count as f64 {
+                        c.push(
+                            &format!("{base}.width"),
+                            "must be shorter than half the ball spacing on its raceway",
+                        );
+                    }
                 }
             }
-        }
-        if self.faults.len() > 16 {
-            c.push("faults", "at most 16 defects");
         }
 
         let s = &self.solver;
@@ -598,6 +609,26 @@ mod tests {
         s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.0 };
         s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
         assert!(s.validate().is_ok());
+    }
+
+    #[test]
+    fn too_many_defects_is_one_error_however_bad_they_are() {
+        let mut s = scene();
+        let bad = Fault {
+            ring: Ring::Outer,
+            angle: f64::NAN,
+            width: -1.0,
+            depth: f64::INFINITY,
+        };
+        s.faults = vec![bad; 100_000];
+        let errs = s.validate().unwrap_err().0;
+        assert_eq!(errs.len(), 1, "{:?}", &errs[..errs.len().min(3)]);
+        assert_eq!(errs[0].path, "faults");
+        assert!(errs[0].message.contains("got 100000"), "{}", errs[0].message);
+        // within the cap every defect is still checked
+        s.faults.truncate(MAX_FAULTS);
+        let errs = s.validate().unwrap_err().0;
+        assert!(errs.iter().any(|e| e.path == "faults[15].width"), "{errs:?}");
     }
 
     #[test]
