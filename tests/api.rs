@@ -675,3 +675,58 @@ async fn cors_wildcard_allows_any_origin_and_bad_origins_are_refused_up_front() 
         assert!(stderr.contains("--cors-origins"), "{bad}: {stderr}");
     }
 }
+
+/// Analysis options are checked the same way on the direct and the queued path, before
+/// anything runs or is queued, with the path of the option in `errors[]`; unknown option
+/// names are refused like unknown members anywhere else.
+#[tokio::test]
+async fn analysis_options_are_checked_up_front_on_every_path() {
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let x: Vec<f64> = (0..4096).map(|k| (k as f64 * 0.37).sin()).collect();
+    let base =
+        json!({"samples": x, "sample_rate": 12000.0, "preset": "cwru6205", "shaft_rpm": 1797.0});
+    for mode in ["", "?mode=async"] {
+        for (options, path) in [
+            (json!({"levels": 99}), "options.levels"),
+            (json!({"harmonics": 0}), "options.harmonics"),
+            (json!({"biort": "nope"}), "options.biort"),
+            (json!({"window": [0.5, 0.2]}), "options.window"),
+            (json!({"harmonicz": 4}), "options.harmonicz"),
+        ] {
+            let mut req = base.clone();
+            req["options"] = options.clone();
+            let url = s.url(&format!("/v1/analyses{mode}"));
+            let (st, h, body) = post_json(&c, &url, &req).await;
+            assert_problem(st, &h, &body, 422);
+            let paths: Vec<&str> = body["errors"]
+                .as_array()
+                .unwrap_or_else(|| panic!("{mode} {options}: no errors[]: {body}"))
+                .iter()
+                .map(|e| e["path"].as_str().unwrap())
+                .collect();
+            assert!(
+                paths.iter().any(|p| p.starts_with(path)),
+                "{mode} {options}: {paths:?} in {body}"
+            );
+        }
+    }
+    // nothing was queued
+    let (_, _, list) = get_json(&c, &s.url("/v1/analyses")).await;
+    assert!(list["items"].as_array().unwrap().is_empty(), "{list}");
+    // query parameters name themselves
+    let raw: Vec<u8> = x.iter().flat_map(|v| (*v as f32).to_le_bytes()).collect();
+    let r = c
+        .post(s.url(
+            "/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797&levels=99",
+        ))
+        .header("content-type", "application/octet-stream")
+        .body(raw)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 422);
+    let body: Value = r.json().await.unwrap();
+    assert_eq!(body["errors"][0]["path"], "levels", "{body}");
+}

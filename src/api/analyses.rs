@@ -26,7 +26,9 @@ use axum::extract::{Path, RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_core::signal::analysis::{AnalysisOptions, AnalysisReport, Spectrum};
+use bearing_core::signal::analysis::{
+    check_options, AnalysisError, AnalysisOptions, AnalysisReport, Spectrum,
+};
 use bearing_core::signal::frequencies::{
     kinematic_preset, kinematic_preset_names, KinematicGeometry,
 };
@@ -213,7 +215,7 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
         shaft_hz,
         options: r.options.unwrap_or_default(),
     };
-    check(&input, &r.samples)?;
+    check(&input, &r.samples, "options.")?;
     Ok((input, r.samples))
 }
 
@@ -298,7 +300,7 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
         shaft_hz,
         options,
     };
-    check(&input, &samples)?;
+    check(&input, &samples, "")?;
     Ok((input, samples))
 }
 
@@ -365,7 +367,9 @@ fn shaft_hz(hz: Option<f64>, rpm: Option<f64>) -> ApiResult<f64> {
     Ok(f)
 }
 
-fn check(input: &AnalysisInput, samples: &[f64]) -> ApiResult<()> {
+/// Check the request before anything runs or is queued; `options_prefix` is where the
+/// options sit in the request (`options.` in a JSON body, nothing for query parameters).
+fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiResult<()> {
     let mut errs = vec![];
     if !(input.sample_rate.is_finite() && input.sample_rate > 0.0) {
         errs.push(FieldProblem {
@@ -384,6 +388,29 @@ fn check(input: &AnalysisInput, samples: &[f64]) -> ApiResult<()> {
             path: format!("samples[{k}]"),
             message: "must be finite".into(),
         });
+    }
+    // the options as the analysis itself checks them, so a queued job cannot be accepted
+    // and fail later where the direct path answers 422
+    if errs.is_empty() {
+        let problem = check_options(&input.options, input.sample_rate, samples.len()).err();
+        if let Some(e) = problem {
+            errs.push(match e {
+                AnalysisError::Invalid { field, message } => FieldProblem {
+                    path: format!("{options_prefix}{field}"),
+                    message,
+                },
+                AnalysisError::TooShort { n, levels, need } => FieldProblem {
+                    path: "samples".into(),
+                    message: format!(
+                        "{n} samples is too short for {levels} levels (need >= {need})"
+                    ),
+                },
+                AnalysisError::NonFinite { index } => FieldProblem {
+                    path: format!("samples[{index}]"),
+                    message: "must be finite".into(),
+                },
+            });
+        }
     }
     if errs.is_empty() {
         Ok(())

@@ -624,11 +624,18 @@ mod tests {
         let errs = s.validate().unwrap_err().0;
         assert_eq!(errs.len(), 1, "{:?}", &errs[..errs.len().min(3)]);
         assert_eq!(errs[0].path, "faults");
-        assert!(errs[0].message.contains("got 100000"), "{}", errs[0].message);
+        assert!(
+            errs[0].message.contains("got 100000"),
+            "{}",
+            errs[0].message
+        );
         // within the cap every defect is still checked
         s.faults.truncate(MAX_FAULTS);
         let errs = s.validate().unwrap_err().0;
-        assert!(errs.iter().any(|e| e.path == "faults[15].width"), "{errs:?}");
+        assert!(
+            errs.iter().any(|e| e.path == "faults[15].width"),
+            "{errs:?}"
+        );
     }
 
     #[test]

@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::dtcwt::{min_length, Dtcwt1d, DtcwtError};
+use super::dtcwt::{biort, min_length, qshift, Dtcwt1d, DtcwtError};
 use super::frequencies::{
     characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry,
 };
@@ -20,7 +20,7 @@ pub use super::spectrum::Spectrum;
 /// Analysis settings. Missing JSON fields take the defaults.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct AnalysisOptions {
     /// DTCWT levels, 1..=16 (default 5).
     #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 16))]
@@ -203,47 +203,8 @@ pub fn analyze(
         return Err(AnalysisError::NonFinite { index });
     }
 
-    let duration = signal.len() as f64 / fs;
-    let (i0, i1) = match opts.window {
-        None => (0, signal.len()),
-        Some([t0, t1]) => {
-            if !(t0.is_finite() && t1.is_finite() && t0 >= 0.0 && t1 > t0) {
-                return Err(invalid(
-                    "window",
-                    format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])"),
-                ));
-            }
-            if t0 >= duration {
-                return Err(invalid(
-                    "window",
-                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
-                ));
-            }
-            let i0 = (t0 * fs).round() as usize;
-            let i1 = ((t1 * fs).round() as usize).min(signal.len());
-            (i0, i1)
-        }
-    };
+    let (i0, i1) = window_range(opts, fs, signal.len())?;
     let x = &signal[i0..i1];
-    let need = min_length(opts.levels);
-    if x.len() < need {
-        return Err(if opts.window.is_some() {
-            invalid(
-                "window",
-                format!(
-                    "holds {} samples, too short for {} levels (need >= {need})",
-                    x.len(),
-                    opts.levels
-                ),
-            )
-        } else {
-            AnalysisError::TooShort {
-                n: x.len(),
-                levels: opts.levels,
-                need,
-            }
-        });
-    }
 
     let theory = characteristic_frequencies(geometry, shaft_hz);
     let id_opts = IdentifyOptions {
@@ -311,6 +272,65 @@ pub fn analyze(
         raw_spectrum,
         level_spectra,
     })
+}
+
+/// Sample range `[i0, i1)` of the analysis window in a signal of `n` samples at `fs` Hz,
+/// long enough for the DTCWT levels asked for.
+fn window_range(
+    opts: &AnalysisOptions,
+    fs: f64,
+    n: usize,
+) -> Result<(usize, usize), AnalysisError> {
+    let duration = n as f64 / fs;
+    let (i0, i1) = match opts.window {
+        None => (0, n),
+        Some([t0, t1]) => {
+            if !(t0.is_finite() && t1.is_finite() && t0 >= 0.0 && t1 > t0) {
+                return Err(invalid(
+                    "window",
+                    format!("must be [t0, t1] s with 0 <= t0 < t1 (got [{t0}, {t1}])"),
+                ));
+            }
+            if t0 >= duration {
+                return Err(invalid(
+                    "window",
+                    format!("starts at {t0} s, after the end of the signal ({duration} s)"),
+                ));
+            }
+            let i0 = (t0 * fs).round() as usize;
+            let i1 = ((t1 * fs).round() as usize).min(n);
+            (i0, i1)
+        }
+    };
+    let need = min_length(opts.levels);
+    if i1 - i0 < need {
+        return Err(if opts.window.is_some() {
+            invalid(
+                "window",
+                format!(
+                    "holds {} samples, too short for {} levels (need >= {need})",
+                    i1 - i0,
+                    opts.levels
+                ),
+            )
+        } else {
+            AnalysisError::TooShort {
+                n: i1 - i0,
+                levels: opts.levels,
+                need,
+            }
+        });
+    }
+    Ok((i0, i1))
+}
+
+/// Every check `analyze` makes of its options, for `n` samples at `fs` Hz, without
+/// analysing: a service can refuse a request up front instead of failing its job later.
+pub fn check_options(opts: &AnalysisOptions, fs: f64, n: usize) -> Result<(), AnalysisError> {
+    validate_options(opts, fs)?;
+    biort(&opts.biort)?;
+    qshift(&opts.qshift)?;
+    window_range(opts, fs, n).map(|_| ())
 }
 
 fn validate_options(opts: &AnalysisOptions, fs: f64) -> Result<(), AnalysisError> {
