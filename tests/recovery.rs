@@ -12,7 +12,9 @@ async fn sigkill_mid_run_then_restart_completes_the_job() {
     let args = ["--workers", "1", "--lease-secs", "1"];
     let mut s = Server::start(&db, &args);
     let c = client();
-    let id = submit(&c, &s, &short_scene(0.1)).await;
+    // long enough (~1.5 s) to be seen running with progress, which reaches the store
+    // with the lease heartbeat every 0.5 s
+    let id = submit(&c, &s, &short_scene(0.2)).await;
     let queued_too = submit(&c, &s, &short_scene(0.005)).await;
     wait_until(&c, &s, &id, Duration::from_secs(60), |j| {
         j["state"] == "running" && j["progress"].as_f64().unwrap_or(0.0) > 0.0
@@ -47,8 +49,11 @@ async fn a_study_survives_sigkill_and_completes_after_restart() {
     let args = ["--workers", "1", "--lease-secs", "1"];
     let mut s = Server::start(&db, &args);
     let c = client();
+    // Points long enough to be seen running: progress reaches the store with the lease
+    // heartbeat (every lease / 2 = 0.5 s here), and a 0.05 s point (~0.4 s of run time on
+    // an idle machine) could finish before its first report.
     let study = serde_json::json!({
-        "base": {"preset": "h7005c", "fault_case": "inner", "overrides": {"solver": {"duration": 0.05}}},
+        "base": {"preset": "h7005c", "fault_case": "inner", "overrides": {"solver": {"duration": 0.2}}},
         "design": {"type": "grid", "factors": [{"pointer": "/operating/radial_load", "values": [200.0, 300.0]}]}
     });
     let (status, _, st) = post_json(&c, &s.url("/v1/studies"), &study).await;
