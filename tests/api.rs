@@ -25,6 +25,35 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     let (st, h, problem) = decode(r).await;
     assert_problem(st, &h, &problem, 400);
 
+    // 400 naming the field: NaN, Infinity and 1e400 are not JSON numbers
+    for (body, path) in [
+        (
+            r#"{"preset":"h7005c","overrides":{"operating":{"axial_load":NaN}}}"#,
+            "overrides.operating.axial_load",
+        ),
+        (
+            r#"{"preset":"h7005c","overrides":{"operating":{"axial_load":1e400}}}"#,
+            "overrides.operating.axial_load",
+        ),
+        (
+            r#"{"preset":"h7005c","overrides":{"faults":[{"width":-Infinity}]}}"#,
+            "overrides.faults[0].width",
+        ),
+    ] {
+        let r = c
+            .post(&sims)
+            .header("content-type", "application/json")
+            .body(body)
+            .send()
+            .await
+            .unwrap();
+        let (st, h, problem) = decode(r).await;
+        assert_problem(st, &h, &problem, 400);
+        assert_eq!(problem["errors"][0]["path"], path, "{problem}");
+        let message = problem["errors"][0]["message"].as_str().unwrap();
+        assert!(message.contains("not a finite JSON number"), "{problem}");
+    }
+
     // 415: no JSON content type
     let r = c.post(&sims).body("{}").send().await.unwrap();
     let (st, h, problem) = decode(r).await;

@@ -36,9 +36,50 @@ pub fn require_json(headers: &HeaderMap) -> Result<(), Problem> {
 }
 
 /// Parse JSON text into a value: a syntax error is a 400.
+///
+/// A syntax error inside the document names the member where it stopped (`NaN`,
+/// `Infinity` and out-of-range numbers such as `1e400` are not JSON numbers), as a 400 with
+/// that path in `errors[]`, not only a line and column.
 pub fn parse_value(body: &[u8]) -> Result<Value, Problem> {
-    serde_json::from_slice(body)
-        .map_err(|e| Problem::bad_request(format!("request body is not valid JSON: {e}")))
+    let mut de = serde_json::Deserializer::from_slice(body);
+    let parsed: Result<Value, _> = serde_path_to_error::deserialize(&mut de);
+    let v = parsed.map_err(|e| {
+        // `?` stands for a member whose name was not read yet: name its parent instead
+        let full = e.path().to_string();
+        let path = full.trim_end_matches('?').trim_end_matches('.').to_string();
+        let inner = e.into_inner();
+        if path.is_empty() || path == "." {
+            return Problem::bad_request(format!("request body is not valid JSON: {inner}"));
+        }
+        let number = inner.to_string().contains("number out of range")
+            || body_token_at(body, inner.line(), inner.column()).is_some_and(|t| {
+                let t = t.trim_start_matches(['-', '+']);
+                t.starts_with("NaN") || t.starts_with("Infinity") || t.starts_with("inf")
+            });
+        let message = if number {
+            format!("not a finite JSON number ({inner}); NaN, Infinity and numbers beyond 1.8e308 are not JSON")
+        } else {
+            format!("not valid JSON here ({inner})")
+        };
+        let mut p = Problem::bad_request(format!("request body is not valid JSON at {path}: {message}"));
+        p.errors = Some(vec![FieldProblem { path, message }]);
+        p
+    })?;
+    de.end()
+        .map_err(|e| Problem::bad_request(format!("request body is not valid JSON: {e}")))?;
+    Ok(v)
+}
+
+/// The text of `body` from 1-based `line` and `column` (serde_json's error position, one past
+/// the offending character or at it) back to the start of the token there.
+fn body_token_at(body: &[u8], line: usize, column: usize) -> Option<&str> {
+    let text = std::str::from_utf8(body).ok()?;
+    let line_text = text.lines().nth(line.checked_sub(1)?)?;
+    let end = column.min(line_text.len());
+    let start = line_text[..end]
+        .rfind(|c: char| c == ':' || c == ',' || c == '[' || c.is_whitespace())
+        .map_or(0, |i| i + 1);
+    Some(&line_text[start..])
 }
 
 /// Convert a JSON value into `T`; a type or unknown-field error is a 422 naming its path
