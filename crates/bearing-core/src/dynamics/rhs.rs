@@ -121,7 +121,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     let (inner, outer) = ring_motions(m, t, y);
     let cage = if m.concentric_cage {
         // held on the guiding ring's axis (the outer ring for a ball-guided cage)
-        let ring = if m.land.is_some() && !m.land_on_outer {
+        let ring = if m.cage_guided_by_inner() {
             &inner
         } else {
             &outer
@@ -288,7 +288,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     // A concentric cage passes its radial load to the ring that guides it.
     if m.concentric_cage {
         let radial = Vector3::new(0.0, f_cage.y, f_cage.z);
-        if m.land.is_some() && !m.land_on_outer {
+        if m.cage_guided_by_inner() {
             f_inner += radial;
         } else {
             f_outer += radial;

@@ -44,7 +44,7 @@ impl OdeSystem for BearingSystem<'_> {
         }
         if m.concentric_cage {
             let (i, o, c) = (l.inner, l.outer, l.cage);
-            let [py, pz, vy, vz] = if m.land.is_some() && !m.land_on_outer {
+            let [py, pz, vy, vz] = if m.cage_guided_by_inner() {
                 [
                     y[i + inner::Y],
                     y[i + inner::Z],

@@ -315,13 +315,20 @@ impl Model {
         }
     }
 
+    /// True when the inner ring guides the cage (an inner-land cage); an outer-land or
+    /// ball-guided cage is referred to the outer ring.
+    #[inline]
+    pub fn cage_guided_by_inner(&self) -> bool {
+        self.land.is_some() && !self.land_on_outer
+    }
+
     /// Cage centre relative to its guiding ring in Y and Z (m), and that offset over the
     /// land's radial clearance (-). The guiding ring is the outer ring unless the cage is
     /// inner-land guided; a ball-guided cage is measured from the outer ring, unscaled.
     #[inline]
     pub fn cage_offset(&self, y: &[f64]) -> ([f64; 2], f64) {
         let (c, o, i) = (self.layout.cage, self.layout.outer, self.layout.inner);
-        let (gy, gz) = if self.land.is_some() && !self.land_on_outer {
+        let (gy, gz) = if self.cage_guided_by_inner() {
             (y[i + inner::Y], y[i + inner::Z])
         } else {
             (y[o + outer::Y], y[o + outer::Z])

@@ -40,7 +40,7 @@ pub fn initial_state(m: &Model, qs: &QsState) -> Vec<f64> {
     y[o + outer::Y] = oy;
     y[o + outer::Z] = oz;
     let c = l.cage;
-    if m.land.is_some() && !m.land_on_outer {
+    if m.cage_guided_by_inner() {
         y[c + cage::Y] = y[i + inner::Y];
         y[c + cage::Z] = y[i + inner::Z];
     } else {
