@@ -77,8 +77,9 @@ fn reduced_fidelity_levels_agree_with_quasi_static() {
 /// of the full model within 0.05 % (the limit on BPFO and BPFI, which for a fixed
 /// outer ring are Z f_cage and Z (f_shaft - f_cage), so their errors are the cage speed's
 /// and 0.74 of it), and its pedestal band RMS (< 20 kHz) within the 10 %, while
-/// costing fewer right-hand sides. Measured 2026-11-23: quasi_static_balls -0.016 % and
-/// +5.3 % for 0.37 of the evaluations, concentric_cage +0.034 % and +6.4 % for 0.32. (On
+/// costing fewer right-hand sides. Measured 2026-11-23 (after the cube-root change):
+/// quasi_static_balls -0.016 % and +5.5 % for 0.37 of the evaluations, concentric_cage
+/// +0.041 % and +6.3 % for 0.32. (On
 /// the 0.5 s Table-1 ramp concentric_cage exceeds 10 % of band RMS: docs/benchmarks.md.)
 #[test]
 fn reduced_fidelity_levels_keep_the_full_models_cage_speed_and_signal() {
