@@ -21,6 +21,12 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_WORKERS")]
     pub workers: Option<usize>,
 
+    /// Direct computations (quasi-static solves, analyses answered in the request) run at
+    /// the same time, on threads apart from the job workers; default: half the cores, at
+    /// least 1. One whose client goes away is stopped.
+    #[arg(long, env = "BEARING_SIM_DIRECT_CONCURRENCY")]
+    pub direct_concurrency: Option<usize>,
+
     /// Queued jobs accepted before submissions get 429.
     #[arg(long, env = "BEARING_SIM_MAX_QUEUED", default_value_t = 1000)]
     pub max_queued: i64,
@@ -64,6 +70,18 @@ pub struct Config {
     )]
     pub sync_analysis_samples: usize,
 
+    /// Largest estimated solver work of a scene, right-hand-side evaluations (four per
+    /// step at the fixed step, or at the smaller of `max_step` and the typical 5 us step,
+    /// plus one per output sample); a scene over it is refused with 422. The default is
+    /// about 8 min of solver time (the Table-1 scene is 4.5e5).
+    #[arg(long, env = "BEARING_SIM_MAX_SCENE_EVALUATIONS", default_value_t = 5.0e7)]
+    pub max_scene_evaluations: f64,
+
+    /// Wall-clock limit of one job's run, s: a job still running after it is stopped and
+    /// failed (kind `time_limit`). 0 disables it.
+    #[arg(long, env = "BEARING_SIM_JOB_TIME_LIMIT", default_value_t = 3600.0)]
+    pub job_time_limit: f64,
+
     /// Grace period on shutdown for running jobs to stop and be requeued, s.
     #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
     pub shutdown_grace: f64,
@@ -76,6 +94,16 @@ impl Config {
                 .map(|n| n.get())
                 .unwrap_or(1)
         })
+    }
+
+    pub fn direct_count(&self) -> usize {
+        self.direct_concurrency
+            .unwrap_or_else(|| {
+                std::thread::available_parallelism()
+                    .map(|n| n.get() / 2)
+                    .unwrap_or(1)
+            })
+            .max(1)
     }
 
     pub fn lease_ms(&self) -> i64 {

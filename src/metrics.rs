@@ -52,6 +52,18 @@ pub struct Metrics {
     study_points: AtomicI64,
     study_jobs_queued: AtomicI64,
     study_points_shared: AtomicI64,
+    /// Direct computations running now, and those stopped because their request went away.
+    direct_running: AtomicI64,
+    direct_cancelled: AtomicI64,
+}
+
+/// Decrements the direct-computation gauge when one ends.
+pub struct DirectGuard(std::sync::Arc<Metrics>);
+
+impl Drop for DirectGuard {
+    fn drop(&mut self) {
+        self.0.direct_running.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 /// Decrements the running gauge when a job ends, whatever the path out.
@@ -83,6 +95,21 @@ impl Metrics {
         let now = self.running.fetch_add(1, Ordering::SeqCst) + 1;
         self.running_max.fetch_max(now, Ordering::SeqCst);
         RunningGuard(self)
+    }
+
+    /// Count a direct computation as running until the guard drops.
+    pub fn direct_started(self: &std::sync::Arc<Self>) -> DirectGuard {
+        self.direct_running.fetch_add(1, Ordering::SeqCst);
+        DirectGuard(self.clone())
+    }
+
+    /// Count a direct computation whose request went away before it ended.
+    pub fn direct_cancelled(&self) {
+        self.direct_cancelled.fetch_add(1, Ordering::SeqCst);
+    }
+
+    pub fn direct_running(&self) -> i64 {
+        self.direct_running.load(Ordering::SeqCst)
     }
 
     /// Count an accepted study.
@@ -141,7 +168,19 @@ impl Metrics {
             self.running_max.load(Ordering::SeqCst)
         );
 
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_direct_running Direct computations (quasi-static solves, small analyses) running now."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_direct_running gauge");
+        let _ = writeln!(out, "bearing_sim_direct_running {}", self.direct_running());
+
         for (name, help, v) in [
+            (
+                "bearing_sim_direct_cancelled_total",
+                "Direct computations stopped because their request went away.",
+                &self.direct_cancelled,
+            ),
             (
                 "bearing_sim_studies_created_total",
                 "Studies accepted by this process.",

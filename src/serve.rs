@@ -55,7 +55,7 @@ pub async fn run_until(
         metrics,
         wake,
         ready: ready.clone(),
-        direct: Arc::new(Semaphore::new(workers.max(1))),
+        direct: Arc::new(Semaphore::new(config.direct_count())),
         openapi_yaml: api::openapi::yaml(),
     };
     let addr = listener.local_addr()?;

@@ -174,8 +174,8 @@ pub async fn submit(
         .await;
     }
 
-    let run = run_direct(&state, "the analysis", move || {
-        run_analysis(&input, &samples)
+    let run = run_direct(&state, "the analysis", move |cancel| {
+        run_analysis(&input, &samples, Some(cancel))
     })
     .await?;
     let out = run.map_err(|e| {
@@ -408,6 +408,10 @@ fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiRes
                 AnalysisError::NonFinite { index } => FieldProblem {
                     path: format!("samples[{index}]"),
                     message: "must be finite".into(),
+                },
+                AnalysisError::Cancelled => FieldProblem {
+                    path: "$".into(),
+                    message: "the check was cancelled".into(),
                 },
             });
         }

@@ -5,6 +5,7 @@
 #![allow(clippy::result_large_err)]
 
 mod analyses;
+mod budget;
 mod direct;
 mod extract;
 mod job_resource;

@@ -54,7 +54,8 @@ pub async fn solve(
             "must be in (0, 100000] rev/min",
         ));
     }
-    let solved = run_direct(&state, "the quasi-static solver", move || {
+    let solved = run_direct(&state, "the quasi-static solver", move |_cancel| {
+        // a few milliseconds of Newton iterations: not worth a check
         bearing_core::quasi_static::solve(&scene, rpm)
     })
     .await?;

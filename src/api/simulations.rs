@@ -163,6 +163,10 @@ pub async fn submit(
     require_json(&headers)?;
     let mut body = as_object(parse_value(&body)?)?;
     let scene = resolve_scene(&mut body, &[])?;
+    let over = super::budget::over_budget(&scene, &state.config, "scene");
+    if !over.is_empty() {
+        return Err(Problem::validation(over));
+    }
     // Refuse now what could never start (no equilibrium at t = 0), rather than fail the job
     // later: one quasi-static solve, off the async threads.
     let scene = tokio::task::spawn_blocking(move || {

@@ -72,6 +72,7 @@ pub async fn submit(
     let request_json = serde_json::to_value(&req).map_err(|e| Problem::internal(e.to_string()))?;
     // Expanding validates every point; each distinct scene must also have an equilibrium
     // at t = 0 (one quasi-static solve each), off the async threads.
+    let config = state.config.clone();
     let plan = tokio::task::spawn_blocking(move || -> Result<_, Vec<FieldProblem>> {
         let plan = plan(&req).map_err(|ps| {
             ps.into_iter()
@@ -87,6 +88,11 @@ pub async fn submit(
             if seen.contains_key(&p.key) {
                 continue;
             }
+            problems.extend(super::budget::over_budget(
+                &p.scene,
+                &config,
+                &format!("points[{i}].scene"),
+            ));
             if let Err(e) = bearing_core::simulation::check_start(&p.scene) {
                 problems.extend(e.0.into_iter().map(|f| FieldProblem {
                     path: super::problem::join_path(&format!("points[{i}].scene"), &f.path),

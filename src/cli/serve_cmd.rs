@@ -25,9 +25,9 @@ pub fn main(args: ServeArgs) -> CliResult {
     let workers = config.worker_count();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
-        // Engine runs are bounded by the worker pool; the margin serves direct requests
-        // (also bounded, by a semaphore) and tokio's own blocking work.
-        .max_blocking_threads(2 * workers.max(1) + 4)
+        // Engine runs are bounded by the worker pool and direct computations by their own
+        // semaphore; the margin serves start checks, the store and tokio's blocking work.
+        .max_blocking_threads(workers + config.direct_count() + 8)
         .build()?;
     runtime.block_on(async move {
         let listener = tokio::net::TcpListener::bind(config.bind).await?;

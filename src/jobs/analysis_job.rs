@@ -7,7 +7,10 @@ use super::outcome::{to_stored, JobFailure, JobOutput};
 use super::record::{AnalysisJobRecord, AnalysisRecord};
 use crate::store::blob::decode_f64le;
 use crate::store::FailureKind;
-use bearing_core::signal::analysis::{analyze, AnalysisError, AnalysisOptions, AnalysisOutput};
+use bearing_core::signal::analysis::{
+    analyze_cancellable, AnalysisError, AnalysisOptions, AnalysisOutput,
+};
+use std::sync::atomic::AtomicBool;
 use bearing_core::signal::frequencies::KinematicGeometry;
 use serde::{Deserialize, Serialize};
 
@@ -22,17 +25,20 @@ pub struct AnalysisInput {
     pub options: AnalysisOptions,
 }
 
-/// The analysis pipeline on `samples` as `input` describes them.
+/// The analysis pipeline on `samples` as `input` describes them; it stops with
+/// `AnalysisError::Cancelled` soon after `cancel` is set.
 pub fn run_analysis(
     input: &AnalysisInput,
     samples: &[f64],
+    cancel: Option<&AtomicBool>,
 ) -> Result<AnalysisOutput, AnalysisError> {
-    analyze(
+    analyze_cancellable(
         samples,
         input.sample_rate,
         &input.geometry,
         input.shaft_hz,
         &input.options,
+        cancel,
     )
 }
 
@@ -54,8 +60,12 @@ pub fn execute(
         ));
     }
     let samples = decode_f64le(blob);
-    let out = run_analysis(&input, &samples)
-        .map_err(|e| JobFailure::new(FailureKind::Analysis, e.to_string()))?;
+    let out = run_analysis(&input, &samples, Some(&ctl.cancel)).map_err(|e| match e {
+        AnalysisError::Cancelled => {
+            JobFailure::new(FailureKind::Cancelled, "cancelled during the analysis")
+        }
+        e => JobFailure::new(FailureKind::Analysis, e.to_string()),
+    })?;
     ctl.set_progress(1.0);
     let artifacts = spectrum_artifacts(&out);
     let record = AnalysisJobRecord {

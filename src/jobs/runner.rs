@@ -62,6 +62,16 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
     let run_ctl = ctl.clone();
     let mut task = tokio::task::spawn_blocking(move || guarded(|| execute(&job, &run_ctl)));
 
+    // The wall-clock budget: past it the run is stopped and the job failed.
+    let limit = env.config.job_time_limit;
+    let deadline = tokio::time::sleep(if limit > 0.0 {
+        Duration::from_secs_f64(limit)
+    } else {
+        Duration::from_secs(u64::MAX / 4)
+    });
+    tokio::pin!(deadline);
+    let mut timed_out = false;
+
     let mut ticker = tokio::time::interval(env.config.heartbeat_interval());
     ticker.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
     let ending = loop {
@@ -84,6 +94,11 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
                     Err(e) => tracing::warn!(error = %e, "heartbeat failed"),
                 }
             }
+            _ = &mut deadline, if !timed_out && limit > 0.0 => {
+                tracing::warn!(limit, "wall-clock limit reached; stopping the run");
+                timed_out = true;
+                ctl.cancel.store(true, Ordering::SeqCst);
+            }
             _ = shutdown.changed(), if !stopping => {
                 stopping = true;
                 ctl.cancel.store(true, Ordering::SeqCst);
@@ -101,6 +116,20 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
                 result: out.result,
                 stats: out.stats,
                 artifacts: out.artifacts,
+            }),
+        ),
+        // the limit wins over a shutdown or cancel that came later: the run did end on it
+        Err(f) if f.is_cancel() && timed_out => (
+            "failed",
+            Some(Outcome::Failed {
+                error: JobError {
+                    kind: FailureKind::TimeLimit,
+                    message: format!(
+                        "stopped after the wall-clock limit of {limit} s per job (--job-time-limit); {}",
+                        f.message
+                    ),
+                },
+                stats: f.stats,
             }),
         ),
         Err(f) if f.is_cancel() && stopping && !user_cancel => ("requeued", None),

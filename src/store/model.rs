@@ -88,6 +88,8 @@ pub enum FailureKind {
     Cancelled,
     /// Its worker stopped heartbeating too many times.
     LeaseExpired,
+    /// Still running at the wall-clock limit (`--job-time-limit`); stopped.
+    TimeLimit,
     /// The signal analysis refused its input.
     Analysis,
     /// A fault of the service itself (e.g. a result that does not serialize).
@@ -102,6 +104,7 @@ impl FailureKind {
             FailureKind::Panic => "panic",
             FailureKind::Cancelled => "cancelled",
             FailureKind::LeaseExpired => "lease_expired",
+            FailureKind::TimeLimit => "time_limit",
             FailureKind::Analysis => "analysis",
             FailureKind::Internal => "internal",
         }

@@ -6,6 +6,7 @@
 //! an azimuth angle `theta` is measured from +Z towards -Y, so a point at azimuth
 //! `theta` on a circle of radius `r` sits at `(y, z) = (-r sin theta, r cos theta)` (eq. 3).
 
+pub mod cost;
 mod definition;
 mod presets;
 mod valid;

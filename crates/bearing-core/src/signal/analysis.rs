@@ -5,6 +5,7 @@
 //! runner-up level).
 
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::dtcwt::{biort, min_length, qshift, Dtcwt1d, DtcwtError};
 use super::frequencies::{
@@ -143,6 +144,9 @@ pub enum AnalysisError {
         levels: usize,
         need: usize,
     },
+    /// The caller's cancel flag was set (a client gone away, a job cancelled or out of time).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 fn invalid(field: &str, message: impl Into<String>) -> AnalysisError {
@@ -186,6 +190,23 @@ pub fn analyze(
     shaft_hz: f64,
     opts: &AnalysisOptions,
 ) -> Result<AnalysisOutput, AnalysisError> {
+    analyze_cancellable(signal, fs, geometry, shaft_hz, opts, None)
+}
+
+/// [`analyze`], stopping with [`AnalysisError::Cancelled`] soon after `cancel` is set
+/// (it is checked between levels, so within one level's transform and spectrum).
+pub fn analyze_cancellable(
+    signal: &[f64],
+    fs: f64,
+    geometry: &KinematicGeometry,
+    shaft_hz: f64,
+    opts: &AnalysisOptions,
+    cancel: Option<&AtomicBool>,
+) -> Result<AnalysisOutput, AnalysisError> {
+    let check = || match cancel {
+        Some(c) if c.load(Ordering::Relaxed) => Err(AnalysisError::Cancelled),
+        _ => Ok(()),
+    };
     if !(fs.is_finite() && fs > 0.0) {
         return Err(invalid("sample_rate", format!("must be > 0 Hz (got {fs})")));
     }
@@ -213,19 +234,24 @@ pub fn analyze(
         detection_threshold_db: opts.detection_threshold_db,
     };
 
+    check()?;
     let transform = Dtcwt1d::new(&opts.biort, &opts.qshift)?;
     let pyramid = transform.forward(x, opts.levels)?;
-    let components: Vec<Vec<f64>> = (1..=opts.levels)
-        .map(|l| transform.level_component(&pyramid, l))
-        .collect();
+    let mut components: Vec<Vec<f64>> = Vec::with_capacity(opts.levels);
+    for l in 1..=opts.levels {
+        check()?;
+        components.push(transform.level_component(&pyramid, l));
+    }
     let level_kurtosis: Vec<f64> = components.iter().map(|c| kurtosis(c)).collect();
 
     let mut plan = EnvelopeSpectrumPlan::new(x.len());
     let raw_spectrum = plan.compute(x, fs, opts.band);
-    let level_spectra: Vec<Spectrum> = components
-        .iter()
-        .map(|c| plan.compute(c, fs, None))
-        .collect();
+    let mut level_spectra: Vec<Spectrum> = Vec::with_capacity(opts.levels);
+    for c in &components {
+        check()?;
+        level_spectra.push(plan.compute(c, fs, None));
+    }
+    drop(components);
 
     let mut order: Vec<usize> = (0..opts.levels).collect();
     order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
