@@ -54,6 +54,25 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_REQUEST_TIMEOUT", default_value_t = 30.0)]
     pub request_timeout: f64,
 
+    /// HTTP connections open at once; one more is answered 503 and closed. Default: 512,
+    /// or half the descriptor limit when that is less (the other half stays for the
+    /// database and for answering the connections refused in a burst).
+    #[arg(long, env = "BEARING_SIM_MAX_CONNECTIONS")]
+    pub max_connections: Option<usize>,
+
+    /// Time for a client to send a request's headers, and the longest a keep-alive
+    /// connection may sit idle between requests, s.
+    #[arg(long, env = "BEARING_SIM_HEADER_TIMEOUT", default_value_t = 10.0)]
+    pub header_timeout: f64,
+
+    /// Longest a response may wait for a client that does not read it, s.
+    #[arg(long, env = "BEARING_SIM_WRITE_TIMEOUT", default_value_t = 30.0)]
+    pub write_timeout: f64,
+
+    /// Largest request head (request line and headers), bytes (431 above it).
+    #[arg(long, env = "BEARING_SIM_MAX_HEADER_BYTES", default_value_t = 64 * 1024)]
+    pub max_header_bytes: usize,
+
     /// Lease of a running job, s: a job whose worker stops heartbeating is requeued after it.
     #[arg(long, env = "BEARING_SIM_LEASE_SECS", default_value_t = 10.0)]
     pub lease_secs: f64,
@@ -106,6 +125,15 @@ impl Config {
             .max(1)
     }
 
+    pub fn connection_count(&self) -> usize {
+        self.max_connections
+            .unwrap_or_else(|| match descriptor_limit() {
+                Some(n) => (n / 2).clamp(16, 512),
+                None => 512,
+            })
+            .max(1)
+    }
+
     pub fn lease_ms(&self) -> i64 {
         (self.lease_secs.max(0.5) * 1000.0) as i64
     }
@@ -137,4 +165,24 @@ fn parse_cors_origin(s: &str) -> Result<String, String> {
         return Err(format!("{o:?} is not a valid Origin header value"));
     }
     Ok(o.to_string())
+}
+
+/// The soft limit on open files of this process, if the platform tells.
+fn descriptor_limit() -> Option<usize> {
+    #[cfg(unix)]
+    {
+        let mut lim = libc::rlimit {
+            rlim_cur: 0,
+            rlim_max: 0,
+        };
+        // SAFETY: getrlimit writes the struct it is given and nothing else.
+        if unsafe { libc::getrlimit(libc::RLIMIT_NOFILE, &mut lim) } == 0 {
+            return Some(usize::try_from(lim.rlim_cur).unwrap_or(usize::MAX));
+        }
+        None
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
 }

@@ -55,6 +55,18 @@ pub struct Metrics {
     /// Direct computations running now, and those stopped because their request went away.
     direct_running: AtomicI64,
     direct_cancelled: AtomicI64,
+    /// HTTP connections open now, and those refused at the connection bound.
+    connections_open: AtomicI64,
+    connections_refused: AtomicI64,
+}
+
+/// Decrements the open-connections gauge when a connection closes.
+pub struct ConnectionGuard(std::sync::Arc<Metrics>);
+
+impl Drop for ConnectionGuard {
+    fn drop(&mut self) {
+        self.0.connections_open.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 /// Decrements the direct-computation gauge when one ends.
@@ -106,6 +118,17 @@ impl Metrics {
     /// Count a direct computation whose request went away before it ended.
     pub fn direct_cancelled(&self) {
         self.direct_cancelled.fetch_add(1, Ordering::SeqCst);
+    }
+
+    /// Count an HTTP connection as open until the guard drops.
+    pub fn connection_opened(self: &std::sync::Arc<Self>) -> ConnectionGuard {
+        self.connections_open.fetch_add(1, Ordering::SeqCst);
+        ConnectionGuard(self.clone())
+    }
+
+    /// Count a connection refused at the connection bound.
+    pub fn connection_refused(&self) {
+        self.connections_refused.fetch_add(1, Ordering::SeqCst);
     }
 
     pub fn direct_running(&self) -> i64 {
@@ -175,7 +198,23 @@ impl Metrics {
         let _ = writeln!(out, "# TYPE bearing_sim_direct_running gauge");
         let _ = writeln!(out, "bearing_sim_direct_running {}", self.direct_running());
 
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_connections_open HTTP connections open now."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_connections_open gauge");
+        let _ = writeln!(
+            out,
+            "bearing_sim_connections_open {}",
+            self.connections_open.load(Ordering::SeqCst)
+        );
+
         for (name, help, v) in [
+            (
+                "bearing_sim_connections_refused_total",
+                "Connections answered 503 at the connection bound (--max-connections).",
+                &self.connections_refused,
+            ),
             (
                 "bearing_sim_direct_cancelled_total",
                 "Direct computations stopped because their request went away.",

@@ -170,3 +170,201 @@ async fn a_job_over_the_wall_clock_limit_fails_saying_so() {
     // stopped on the way, not run to the end
     assert!(job["progress"].as_f64().unwrap() < 1.0, "{job}");
 }
+
+/// Read until the server closes the connection (EOF or reset), or `timeout`; true if it
+/// closed. Whatever the server answered is appended to `got`.
+fn closed_within(s: &mut TcpStream, timeout: Duration, got: &mut Vec<u8>) -> bool {
+    use std::io::Read;
+    let deadline = Instant::now() + timeout;
+    let mut buf = [0u8; 4096];
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return false;
+        }
+        s.set_read_timeout(Some(left)).unwrap();
+        match s.read(&mut buf) {
+            Ok(0) => return true,
+            Ok(n) => got.extend_from_slice(&buf[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock || e.kind() == std::io::ErrorKind::TimedOut => return false,
+            Err(_) => return true, // reset
+        }
+    }
+}
+
+/// `GET /healthz` over a fresh connection: the status line's code, or None.
+fn healthz_status(addr: &str) -> Option<u16> {
+    use std::io::Read;
+    let mut s = TcpStream::connect(addr).ok()?;
+    s.set_read_timeout(Some(Duration::from_secs(5))).ok()?;
+    s.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n")
+        .ok()?;
+    let mut reply = String::new();
+    let _ = s.read_to_string(&mut reply);
+    reply.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn idle_and_half_sent_connections_are_closed_and_long_polls_are_not() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(
+        &db,
+        &["--workers", "0", "--header-timeout", "1", "--request-timeout", "1"],
+    );
+    let addr = app.base.trim_start_matches("http://").to_string();
+    let c = client();
+
+    // silent sockets, half a header, and a keep-alive connection idle after one request
+    let mut silent: Vec<TcpStream> = (0..100).map(|_| TcpStream::connect(&addr).unwrap()).collect();
+    let mut half: Vec<TcpStream> = (0..20)
+        .map(|_| {
+            let mut s = TcpStream::connect(&addr).unwrap();
+            s.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\nX-Slow: ").unwrap();
+            s
+        })
+        .collect();
+    let mut kept = TcpStream::connect(&addr).unwrap();
+    kept.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    // a body promised and never sent: the request timeout answers it
+    let mut slow_body = TcpStream::connect(&addr).unwrap();
+    slow_body
+        .write_all(b"POST /v1/simulations HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{\"preset\"")
+        .unwrap();
+    // the service still answers while they are open
+    assert_eq!(healthz_status(&addr), Some(200));
+
+    // a long poll longer than the header timeout is not cut
+    let id = submit(&c, &app, &short_scene(0.02)).await; // no worker: stays queued
+    let (_, h, _) = get_json(&c, &app.url(&format!("/v1/simulations/{id}"))).await;
+    let etag = h.get("etag").unwrap().to_str().unwrap().to_string();
+    let t = Instant::now();
+    let r = c
+        .get(app.url(&format!("/v1/simulations/{id}?wait=2.5")))
+        .header("if-none-match", &etag)
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 304);
+    assert!(t.elapsed() >= Duration::from_secs(2), "{:?}", t.elapsed());
+
+    // by now (2.5 s, header timeout 1 s) every idle connection must have been closed;
+    // 3 s more of grace covers a loaded machine
+    let grace = Duration::from_secs(3);
+    for (i, s) in silent.iter_mut().enumerate() {
+        assert!(closed_within(s, grace, &mut Vec::new()), "silent socket {i} still open");
+    }
+    for (i, s) in half.iter_mut().enumerate() {
+        assert!(closed_within(s, grace, &mut Vec::new()), "half-header socket {i} still open");
+    }
+    let mut got = Vec::new();
+    assert!(closed_within(&mut kept, grace, &mut got), "idle keep-alive connection still open");
+    assert!(String::from_utf8_lossy(&got).starts_with("HTTP/1.1 200"));
+    let mut got = Vec::new();
+    assert!(closed_within(&mut slow_body, grace, &mut got), "slow body still open");
+    let got = String::from_utf8_lossy(&got);
+    assert!(got.starts_with("HTTP/1.1 408"), "{got}");
+    assert!(got.contains("application/problem+json"), "{got}");
+
+    let text = get_text(&c, &app.url("/metrics")).await;
+    assert!(metric(&text, "bearing_sim_connections_open") <= 2.0, "{text}");
+}
+
+#[tokio::test]
+async fn connections_over_the_bound_get_a_503_and_the_rest_keep_working() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(
+        &db,
+        &["--workers", "0", "--max-connections", "20", "--header-timeout", "1"],
+    );
+    let addr = app.base.trim_start_matches("http://").to_string();
+    let hold: Vec<TcpStream> = (0..20).map(|_| TcpStream::connect(&addr).unwrap()).collect();
+    std::thread::sleep(Duration::from_millis(200));
+    let mut over = TcpStream::connect(&addr).unwrap();
+    let mut got = Vec::new();
+    assert!(closed_within(&mut over, Duration::from_secs(5), &mut got));
+    let got = String::from_utf8_lossy(&got);
+    assert!(got.starts_with("HTTP/1.1 503"), "{got}");
+    assert!(got.contains("application/problem+json") && got.contains("--max-connections"), "{got}");
+    // once the header timeout has closed the idle ones, the service answers again
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while healthz_status(&addr) != Some(200) {
+        assert!(Instant::now() < deadline, "healthz never recovered");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    drop(hold);
+    let text = get_text(&client(), &app.url("/metrics")).await;
+    assert!(metric(&text, "bearing_sim_connections_refused_total") >= 1.0, "{text}");
+}
+
+#[test]
+fn idle_sockets_cannot_exhaust_a_small_descriptor_limit() {
+    // The case: under a 256-descriptor limit, 300 idle sockets made /healthz time
+    // out. The real binary, started under that limit, bounds its connections below it.
+    use std::io::{BufRead, BufReader};
+    let (dir, db) = temp_db();
+    let log = dir.path().join("serve.log");
+    let mut child = std::process::Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -n 256 && exec \"$0\" serve --bind 127.0.0.1:0 --workers 1 --header-timeout 2 --log-format json --database-url \"$1\"")
+        .arg(env!("CARGO_BIN_EXE_bearing-sim"))
+        .arg(format!("sqlite://{}", db.display()))
+        .env_remove("BEARING_SIM_MAX_CONNECTIONS")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let base = loop {
+        let line = lines.next().expect("server exited").unwrap();
+        if let Some(url) = line.strip_prefix("listening on ") {
+            break url.trim().trim_start_matches("http://").to_string();
+        }
+    };
+    let mut idle = Vec::new();
+    for _ in 0..300 {
+        if let Ok(s) = TcpStream::connect(&base) {
+            idle.push(s);
+        }
+    }
+    // the connections past the bound were answered 503 at once, not left hanging
+    std::thread::sleep(Duration::from_millis(300));
+    let status = healthz_status(&base);
+    assert!(matches!(status, Some(503) | Some(200)), "healthz during the flood: {status:?}");
+    // after the header timeout every idle socket is closed and the service answers
+    let grace = Duration::from_secs(6);
+    let still_open = idle
+        .iter()
+        .filter(|s| !closed_within(&mut s.try_clone().unwrap(), grace, &mut Vec::new()))
+        .count();
+    assert_eq!(still_open, 0);
+    assert_eq!(healthz_status(&base), Some(200));
+    let _ = child.kill();
+    let _ = child.wait();
+    let text = std::fs::read_to_string(&log).unwrap();
+    assert!(text.contains("\"max_connections\":128"), "{text}");
+    assert!(!text.contains("Too many open files"), "{text}");
+}
+
+#[tokio::test]
+async fn errors_from_the_http_layer_are_problem_json() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0"]);
+    let addr = app.base.trim_start_matches("http://").to_string();
+    // the 1 MB header
+    let mut s = TcpStream::connect(&addr).unwrap();
+    let big = "a".repeat(1 << 20);
+    let _ = s.write_all(format!("GET /healthz HTTP/1.1\r\nHost: x\r\nX-Big: {big}\r\n\r\n").as_bytes());
+    let mut got = Vec::new();
+    closed_within(&mut s, Duration::from_secs(10), &mut got);
+    let got = String::from_utf8_lossy(&got);
+    assert!(got.starts_with("HTTP/1.1 431"), "{got}");
+    assert!(got.contains("application/problem+json") && got.contains("\"status\":431"), "{got}");
+    // a malformed request line
+    let mut s = TcpStream::connect(&addr).unwrap();
+    s.write_all(b"GET /healthz HTTP/1.1\r\nHost x\r\n\r\n").unwrap();
+    let mut got = Vec::new();
+    closed_within(&mut s, Duration::from_secs(10), &mut got);
+    let got = String::from_utf8_lossy(&got);
+    assert!(got.starts_with("HTTP/1.1 400"), "{got}");
+    assert!(got.contains("application/problem+json"), "{got}");
+}

@@ -1,6 +1,11 @@
 //! A running service: the store, the worker pool and the router on one listener, until
 //! shutdown (SIGTERM or Ctrl-C for [`run`], any future for [`run_until`]).
 
+mod connections;
+mod problem_io;
+
+pub use connections::ConnectionLimits;
+
 use crate::api::{self, AppState};
 use crate::config::Config;
 use crate::jobs::{WorkerEnv, WorkerPool};
@@ -49,6 +54,7 @@ pub async fn run_until(
         metrics: metrics.clone(),
         wake: wake.clone(),
     });
+    let metrics_for_server = metrics.clone();
     let state = AppState {
         store,
         config: config.clone(),
@@ -67,10 +73,26 @@ pub async fn run_until(
         let _ = stop_tx.send(true);
     });
     let mut server_stop = stop_rx.clone();
-    let server = axum::serve(listener, api::router(state)).with_graceful_shutdown(async move {
-        let _ = server_stop.wait_for(|s| *s).await;
-    });
-    let server = tokio::spawn(async move { server.await });
+    let limits = ConnectionLimits {
+        max_connections: config.connection_count(),
+        header_timeout: Duration::from_secs_f64(config.header_timeout.max(0.1)),
+        write_timeout: Duration::from_secs_f64(config.write_timeout.max(0.1)),
+        max_header_bytes: config.max_header_bytes.max(1024),
+    };
+    tracing::info!(
+        max_connections = limits.max_connections,
+        header_timeout = ?limits.header_timeout,
+        "connection limits"
+    );
+    let server = tokio::spawn(connections::serve(
+        listener,
+        api::router(state),
+        limits,
+        metrics_for_server,
+        async move {
+            let _ = server_stop.wait_for(|s| *s).await;
+        },
+    ));
 
     let _ = stop_rx.wait_for(|s| *s).await;
     tracing::info!("shutting down: no new jobs; running jobs are stopped and requeued");
@@ -78,7 +100,7 @@ pub async fn run_until(
     pool.shutdown(Duration::from_secs_f64(config.shutdown_grace.max(0.0)))
         .await;
     match tokio::time::timeout(Duration::from_secs(5), server).await {
-        Ok(joined) => joined??,
+        Ok(joined) => joined?,
         Err(_) => tracing::warn!("open connections did not close within 5 s"),
     }
     tracing::info!("stopped");

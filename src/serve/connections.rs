@@ -1,0 +1,130 @@
+//! The accept loop: HTTP/1.1 connections under a bound, with header-read, idle and write
+//! timeouts (axum::serve has none of these: 2000 idle sockets stayed open past 100 s, and
+//! 300 of them under a 256-descriptor limit made `/healthz` time out).
+
+use super::problem_io::ProblemIo;
+use crate::metrics::Metrics;
+use axum::body::Body;
+use axum::extract::Request;
+use axum::Router;
+use hyper::body::Incoming;
+use hyper_util::rt::{TokioIo, TokioTimer};
+use hyper_util::service::TowerToHyperService;
+use std::future::Future;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{watch, Semaphore};
+use tower::ServiceExt;
+
+/// The limits of the connection layer (`Config` flags; docs/operations.md says why).
+#[derive(Debug, Clone, Copy)]
+pub struct ConnectionLimits {
+    /// Connections open at once; one more is answered 503 and closed.
+    pub max_connections: usize,
+    /// Time for a client to send a request's headers, and the longest a keep-alive
+    /// connection may sit idle between requests.
+    pub header_timeout: Duration,
+    /// Longest a response may wait for a client that does not read it.
+    pub write_timeout: Duration,
+    /// Largest request head (request line and headers), bytes; 431 above it.
+    pub max_header_bytes: usize,
+}
+
+/// Serve `router` on `listener` until `shutdown` completes, then stop accepting and wait
+/// for the open connections to finish their requests.
+pub async fn serve(
+    listener: TcpListener,
+    router: Router,
+    limits: ConnectionLimits,
+    metrics: Arc<Metrics>,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+) {
+    let permits = Arc::new(Semaphore::new(limits.max_connections));
+    // Dropping `signal_rx` tells the loop and every connection to wind down; each
+    // connection holds a `close_rx` until it is done.
+    let (signal_tx, signal_rx) = watch::channel(());
+    tokio::spawn(async move {
+        shutdown.await;
+        drop(signal_rx);
+    });
+    let (close_tx, close_rx) = watch::channel(());
+    loop {
+        let (stream, _peer) = tokio::select! {
+            accepted = listener.accept() => match accepted {
+                Ok(a) => a,
+                Err(e) => {
+                    // out of descriptors (EMFILE) or a connection reset before accept:
+                    // wait a little instead of spinning
+                    tracing::warn!(error = %e, "accept failed");
+                    tokio::time::sleep(Duration::from_millis(50)).await;
+                    continue;
+                }
+            },
+            _ = signal_tx.closed() => break,
+        };
+        let Ok(permit) = permits.clone().try_acquire_owned() else {
+            metrics.connection_refused();
+            refuse(stream, limits.max_connections);
+            continue;
+        };
+        let _ = stream.set_nodelay(true);
+        let service = TowerToHyperService::new(
+            router
+                .clone()
+                .map_request(|r: Request<Incoming>| r.map(Body::new)),
+        );
+        let signal_tx = signal_tx.clone();
+        let close_rx = close_rx.clone();
+        let metrics = metrics.clone();
+        tokio::spawn(async move {
+            let _open = metrics.connection_opened();
+            let io = TokioIo::new(ProblemIo::new(stream, limits.write_timeout));
+            let conn = hyper::server::conn::http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(limits.header_timeout)
+                .max_header_size(limits.max_header_bytes)
+                .serve_connection(io, service);
+            tokio::pin!(conn);
+            let mut signal = std::pin::pin!(signal_tx.closed());
+            let mut draining = false;
+            loop {
+                tokio::select! {
+                    result = conn.as_mut() => {
+                        if let Err(e) = result {
+                            tracing::debug!(error = %e, "connection ended with an error");
+                        }
+                        break;
+                    }
+                    _ = &mut signal, if !draining => {
+                        draining = true;
+                        conn.as_mut().graceful_shutdown();
+                    }
+                }
+            }
+            drop(permit);
+            drop(close_rx);
+        });
+    }
+    drop(close_rx);
+    drop(listener);
+    close_tx.closed().await;
+}
+
+/// Answer a connection over the bound with 503 (problem+json) and close it at once,
+/// without reading its request: one non-blocking write into the fresh socket's buffer, so
+/// a burst of refusals holds no descriptor longer than the accept loop's turn.
+fn refuse(stream: TcpStream, max: usize) {
+    let body = serde_json::json!({
+        "type": "about:blank",
+        "title": "Service Unavailable",
+        "status": 503,
+        "detail": format!("the server holds its limit of {max} open connections (--max-connections); retry later"),
+    })
+    .to_string();
+    let reply = format!(
+        "HTTP/1.1 503 Service Unavailable\r\ncontent-type: application/problem+json\r\ncontent-length: {}\r\nretry-after: 1\r\nconnection: close\r\n\r\n{body}",
+        body.len()
+    );
+    let _ = stream.try_write(reply.as_bytes());
+}
