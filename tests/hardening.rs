@@ -368,3 +368,150 @@ async fn errors_from_the_http_layer_are_problem_json() {
     assert!(got.starts_with("HTTP/1.1 400"), "{got}");
     assert!(got.contains("application/problem+json"), "{got}");
 }
+
+/// Two tokens as `--tokens` takes them, and the tokens themselves.
+fn two_tokens() -> (String, &'static str, &'static str) {
+    let (a, b) = ("bs_token-of-lab-a", "bs_token-of-lab-b");
+    let list = format!(
+        "lab-a:{},lab-b:{}",
+        bearing_sim::config::hash_token(a),
+        bearing_sim::config::hash_token(b)
+    );
+    (list, a, b)
+}
+
+#[tokio::test]
+async fn with_tokens_each_client_sees_and_changes_only_its_own_jobs() {
+    let (list, a, b) = two_tokens();
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0", "--tokens", &list]);
+    let c = client();
+    let sims = app.url("/v1/simulations");
+
+    // anonymous and unknown tokens are refused, with a problem and a challenge
+    for req in [
+        c.post(&sims).json(&short_scene(0.02)),
+        c.get(&sims),
+        c.get(&sims).bearer_auth("bs_not-a-token"),
+        c.get(&sims).header("authorization", "Basic YTpi"),
+    ] {
+        let r = req.send().await.unwrap();
+        let challenge = r.headers().get("www-authenticate").cloned();
+        let (st, h, p) = decode(r).await;
+        assert_problem(st, &h, &p, 401);
+        assert!(challenge.is_some(), "{p}");
+    }
+    // health, metrics and the API document stay open
+    for path in ["/healthz", "/metrics", "/openapi.yaml"] {
+        assert_eq!(c.get(app.url(path)).send().await.unwrap().status(), 200, "{path}");
+    }
+
+    let r = c.post(&sims).bearer_auth(a).json(&short_scene(0.02)).send().await.unwrap();
+    let (st, _, job) = decode(r).await;
+    assert_eq!(st, 202, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let one = app.url(&format!("/v1/simulations/{id}"));
+
+    // lab-b can neither see, list, cancel nor delete it: to b it does not exist
+    let r = c.get(&one).bearer_auth(b).send().await.unwrap();
+    assert_eq!(r.status(), 404);
+    let (_, _, page) = decode(c.get(&sims).bearer_auth(b).send().await.unwrap()).await;
+    assert_eq!(page["items"].as_array().unwrap().len(), 0, "{page}");
+    let r = c.post(format!("{one}/cancel")).bearer_auth(b).send().await.unwrap();
+    assert_eq!(r.status(), 404);
+    let r = c.delete(&one).bearer_auth(b).send().await.unwrap();
+    assert_eq!(r.status(), 404);
+    // lab-a can
+    let (_, _, page) = decode(c.get(&sims).bearer_auth(a).send().await.unwrap()).await;
+    assert_eq!(page["items"][0]["id"], id.as_str(), "{page}");
+    let r = c.post(format!("{one}/cancel")).bearer_auth(a).send().await.unwrap();
+    assert_eq!(r.status(), 202);
+
+    // the same Idempotency-Key from two tenants names two different requests
+    let post = |tok: &'static str, d: f64| {
+        c.post(&sims)
+            .bearer_auth(tok)
+            .header("idempotency-key", "run-1")
+            .json(&short_scene(d))
+            .send()
+    };
+    let (sa, _, ja) = decode(post(a, 0.02).await.unwrap()).await;
+    let (sb, _, jb) = decode(post(b, 0.03).await.unwrap()).await;
+    assert_eq!((sa, sb), (202, 202), "{ja} {jb}");
+    assert_ne!(ja["id"], jb["id"]);
+    // and a replay by its own tenant finds its own job
+    let (sa2, _, ja2) = decode(post(a, 0.02).await.unwrap()).await;
+    assert_eq!(sa2, 200);
+    assert_eq!(ja2["id"], ja["id"]);
+
+    // studies too
+    let study = json!({"name": "s", "base": {"preset": "h7005c", "fault_case": "outer", "overrides": {"solver": {"duration": 0.02}}},
+                       "design": {"type": "one_at_a_time", "factors": [
+                           {"name": "axial_load", "pointer": "/operating/axial_load", "values": [300.0]}]}});
+    let r = c.post(app.url("/v1/studies")).bearer_auth(a).json(&study).send().await.unwrap();
+    let (st, _, s) = decode(r).await;
+    assert_eq!(st, 202, "{s}");
+    let sid = s["id"].as_str().unwrap();
+    let r = c.get(app.url(&format!("/v1/studies/{sid}"))).bearer_auth(b).send().await.unwrap();
+    assert_eq!(r.status(), 404);
+    let (_, _, page) = decode(c.get(app.url("/v1/studies")).bearer_auth(b).send().await.unwrap()).await;
+    assert_eq!(page["items"].as_array().unwrap().len(), 0, "{page}");
+    // b's identical study does not share a's job
+    let r = c.post(app.url("/v1/studies")).bearer_auth(b).json(&study).send().await.unwrap();
+    let (_, _, sb) = decode(r).await;
+    assert_ne!(sb["points"][0]["job_id"], s["points"][0]["job_id"], "{sb}");
+}
+
+#[tokio::test]
+async fn open_reads_let_a_dashboard_read_without_a_token_but_not_write() {
+    let (list, a, _) = two_tokens();
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0", "--tokens", &list, "--open-reads"]);
+    let c = client();
+    let sims = app.url("/v1/simulations");
+    let r = c.post(&sims).bearer_auth(a).json(&short_scene(0.02)).send().await.unwrap();
+    let (_, _, job) = decode(r).await;
+    let (st, _, page) = get_json(&c, &sims).await;
+    assert_eq!(st, 200);
+    assert_eq!(page["items"][0]["id"], job["id"], "{page}");
+    let (st, h, p) = post_json(&c, &sims, &short_scene(0.02)).await;
+    assert_problem(st, &h, &p, 401);
+    let id = job["id"].as_str().unwrap();
+    let r = c.delete(app.url(&format!("/v1/simulations/{id}"))).send().await.unwrap();
+    assert_eq!(r.status(), 401);
+}
+
+#[test]
+fn binding_beyond_loopback_without_tokens_warns_loudly() {
+    let (_dir, db) = temp_db();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["serve", "--bind", "0.0.0.0:0", "--workers", "0", "--database-url"])
+        .arg(format!("sqlite://{}", db.display()))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    use std::io::{BufRead, BufReader};
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.next().unwrap().unwrap();
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(first.starts_with("WARNING") && first.contains("WITHOUT API TOKENS"), "{first}");
+}
+
+#[test]
+fn a_bad_tokens_file_stops_the_service_before_it_serves() {
+    let (dir, db) = temp_db();
+    let file = dir.path().join("tokens");
+    std::fs::write(&file, "lab-a:not-a-hash\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["serve", "--bind", "127.0.0.1:0", "--workers", "0", "--database-url"])
+        .arg(format!("sqlite://{}", db.display()))
+        .arg("--tokens-file")
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("line 1") && err.contains("64 hex digits"), "{err}");
+}

@@ -15,6 +15,7 @@ use super::openapi::responses::{
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
 use super::results::{self, AnalysisResult, SpectrumView};
+use super::caller::Caller;
 use super::state::AppState;
 use super::submission::enqueue;
 use super::views::{JobPage, JobView};
@@ -136,7 +137,7 @@ pub struct DirectSpectra {
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
     body: Bytes,
@@ -165,6 +166,7 @@ pub async fn submit(
         let label = format!("{} samples at {} Hz", samples.len(), input.sample_rate);
         return enqueue(
             &state,
+            &caller,
             &headers,
             KIND,
             label,
@@ -445,12 +447,12 @@ fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiRes
     )
 )]
 pub async fn get(
-    State(s): State<AppState>,
+    State(s): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
-    job_resource::get_job(s, KIND, id, headers, q).await
+    job_resource::get_job(s, &caller, KIND, id, headers, q).await
 }
 
 /// List queued analysis jobs, newest first
@@ -465,8 +467,8 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
-    job_resource::list(s, KIND, q).await
+pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
+    job_resource::list(s, &caller, KIND, q).await
 }
 
 /// Cancel a queued or running analysis
@@ -485,8 +487,8 @@ pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    job_resource::cancel(s, KIND, id).await
+pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::cancel(s, &caller, KIND, id).await
 }
 
 /// Delete a finished analysis job
@@ -502,8 +504,8 @@ pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    job_resource::delete(s, KIND, id).await
+pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::delete(s, &caller, KIND, id).await
 }
 
 /// Report of a succeeded analysis job
@@ -519,8 +521,8 @@ pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
         (status = 409, response = Conflict),
     )
 )]
-pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    results::result(s, KIND, id).await
+pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    results::result(s, &caller, KIND, id).await
 }
 
 /// Envelope spectrum of a succeeded analysis job
@@ -539,9 +541,9 @@ pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
     )
 )]
 pub async fn spectra(
-    State(s): State<AppState>,
+    State(s): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
-    results::spectra(s, KIND, id, q).await
+    results::spectra(s, &caller, KIND, id, q).await
 }

@@ -1,6 +1,7 @@
 //! The job resource, shared by both job kinds (simulations and queued analyses): read
 //! (with ETag and long poll), list, cancel, delete.
 
+use super::caller::Caller;
 use super::extract::QueryParams;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
@@ -14,10 +15,11 @@ use std::time::{Duration, Instant};
 /// Longest long poll (`wait`), s.
 pub const MAX_WAIT: f64 = 60.0;
 
-/// A job of the expected kind, or 404 (ids of the other kind are not visible here).
-pub async fn load(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
+/// A job of the expected kind that the caller may see, or 404 (ids of the other kind,
+/// and other tenants' jobs, are not visible here).
+pub async fn load(state: &AppState, caller: &Caller, kind: JobKind, id: &str) -> ApiResult<Job> {
     let job = state.store.get_job(id).await?;
-    if job.kind != kind {
+    if job.kind != kind || !caller.may_see(&job.tenant) {
         return Err(Problem::not_found(format!(
             "no {} with id {id}",
             kind.as_str()
@@ -41,6 +43,7 @@ pub fn job_response(status: StatusCode, job: &Job) -> Response {
 
 pub async fn get_job(
     state: AppState,
+    caller: &Caller,
     kind: JobKind,
     id: String,
     headers: HeaderMap,
@@ -49,7 +52,7 @@ pub async fn get_job(
     long_poll(
         &headers,
         q.as_deref(),
-        || load(&state, kind, &id),
+        || load(&state, caller, kind, &id),
         etag,
         |job| job.state.is_finished(),
         |job| Ok(job_response(StatusCode::OK, job)),
@@ -101,7 +104,12 @@ where
     }
 }
 
-pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResult<Response> {
+pub async fn list(
+    state: AppState,
+    caller: &Caller,
+    kind: JobKind,
+    q: Option<String>,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let job_state = match q.str("state") {
         None => None,
@@ -113,6 +121,7 @@ pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResul
     let page = state
         .store
         .list_jobs(&ListFilter {
+            tenant: caller.list_scope(),
             kind: Some(kind),
             state: job_state,
             before,
@@ -135,14 +144,24 @@ pub async fn list(state: AppState, kind: JobKind, q: Option<String>) -> ApiResul
     .into_response())
 }
 
-pub async fn cancel(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
-    load(&state, kind, &id).await?;
+pub async fn cancel(
+    state: AppState,
+    caller: &Caller,
+    kind: JobKind,
+    id: String,
+) -> ApiResult<Response> {
+    load(&state, caller, kind, &id).await?;
     let job = state.store.request_cancel(&id).await?;
     Ok(job_response(StatusCode::ACCEPTED, &job))
 }
 
-pub async fn delete(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
-    load(&state, kind, &id).await?;
+pub async fn delete(
+    state: AppState,
+    caller: &Caller,
+    kind: JobKind,
+    id: String,
+) -> ApiResult<Response> {
+    load(&state, caller, kind, &id).await?;
     state.store.delete_job(&id).await?;
     Ok(StatusCode::NO_CONTENT.into_response())
 }
@@ -168,8 +187,13 @@ pub fn paging(q: &QueryParams, default: i64, max: i64) -> ApiResult<(i64, Option
 }
 
 /// The job, if it succeeded; 409 otherwise (with its state).
-pub async fn succeeded(state: &AppState, kind: JobKind, id: &str) -> ApiResult<Job> {
-    let job = load(state, kind, id).await?;
+pub async fn succeeded(
+    state: &AppState,
+    caller: &Caller,
+    kind: JobKind,
+    id: &str,
+) -> ApiResult<Job> {
+    let job = load(state, caller, kind, id).await?;
     if job.state != JobState::Succeeded {
         let why = match &job.error {
             Some(e) => format!(

@@ -6,6 +6,7 @@
 
 mod analyses;
 mod budget;
+mod caller;
 mod direct;
 mod extract;
 mod job_resource;

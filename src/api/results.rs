@@ -2,6 +2,7 @@
 //! theoretical markers and the identified peaks. Records are read back as types.
 
 use super::extract::QueryParams;
+use super::caller::Caller;
 use super::job_resource::succeeded;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
@@ -37,8 +38,13 @@ pub struct AnalysisResult {
 }
 
 /// `GET .../result`: the stored record of a succeeded job, with its id.
-pub async fn result(state: AppState, kind: JobKind, id: String) -> ApiResult<Response> {
-    let job = succeeded(&state, kind, &id).await?;
+pub async fn result(
+    state: AppState,
+    caller: &Caller,
+    kind: JobKind,
+    id: String,
+) -> ApiResult<Response> {
+    let job = succeeded(&state, caller, kind, &id).await?;
     let mut res = match kind {
         JobKind::Simulation => Json(SimulationResult {
             id: job.id.clone(),
@@ -221,12 +227,13 @@ pub struct Marker {
 /// `GET .../spectra`.
 pub async fn spectra(
     state: AppState,
+    caller: &Caller,
     kind: JobKind,
     id: String,
     q: Option<String>,
 ) -> ApiResult<Response> {
     let query = parse_spectra_query(q.as_deref())?;
-    let job = succeeded(&state, kind, &id).await?;
+    let job = succeeded(&state, caller, kind, &id).await?;
     let analysis = stored_analysis(&job)?;
     let (level, peaks): (Option<usize>, Vec<Identification>) = match query.choice {
         SpectrumChoice::Raw => (None, analysis.report.raw.clone()),

@@ -28,6 +28,10 @@ pub fn router(state: AppState) -> Router {
     let mut app = app
         .fallback(ops::no_route)
         .layer(DefaultBodyLimit::max(cfg.max_body_bytes))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            super::caller::authenticate,
+        ))
         .layer(TraceLayer::new_for_http())
         .layer(axum::middleware::from_fn(
             middleware::problem_for_every_error,
@@ -76,6 +80,7 @@ fn cors_layer(origins: &[String]) -> Option<CorsLayer> {
                 header::CONTENT_TYPE,
                 header::IF_NONE_MATCH,
                 header::ACCEPT,
+                header::AUTHORIZATION,
                 HeaderName::from_static("idempotency-key"),
             ])
             .expose_headers([header::LOCATION, header::ETAG, header::RETRY_AFTER])

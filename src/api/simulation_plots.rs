@@ -8,6 +8,7 @@ use super::openapi::responses::{BadRequest, Conflict, NotFound};
 use super::problem::{ApiResult, Problem};
 use super::results::{record, stored_analysis};
 use super::simulations::{load_channel, sample_window, StoredChannel};
+use super::caller::Caller;
 use super::state::AppState;
 use super::studies::svg_response;
 use crate::jobs::artifacts::spectrum_artifact_name;
@@ -45,7 +46,7 @@ const DEFAULT_WINDOW: f64 = 0.1;
     )
 )]
 pub async fn plot(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     Path((id, name)): Path<(String, String)>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
@@ -56,7 +57,7 @@ pub async fn plot(
             SIMULATION_PLOTS.join(", ")
         )));
     }
-    let job = succeeded(&state, JobKind::Simulation, &id).await?;
+    let job = succeeded(&state, &caller, JobKind::Simulation, &id).await?;
     let rec: SimulationRecord = record(&job)?;
     let analysis = stored_analysis(&job)?;
     let report = &analysis.report;

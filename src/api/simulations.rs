@@ -12,6 +12,7 @@ use super::problem::{ApiResult, Problem};
 use super::results::{self, SimulationResult, SpectrumView};
 use super::scene_input::resolve_scene;
 use super::scene_input::SimulationRequest;
+use super::caller::Caller;
 use super::state::AppState;
 use super::submission::enqueue;
 use super::views::{JobPage, JobView};
@@ -156,7 +157,7 @@ pub fn sample_window(
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     headers: HeaderMap,
     body: Bytes,
 ) -> ApiResult<Response> {
@@ -176,7 +177,7 @@ pub async fn submit(
     .map_err(|e| Problem::internal(format!("start check failed: {e}")))?
     .map_err(|e| Problem::scene_invalid("scene", &e))?;
     let input = serde_json::to_value(&scene).map_err(|e| Problem::internal(e.to_string()))?;
-    enqueue(&state, &headers, KIND, scene.name.clone(), input, None).await
+    enqueue(&state, &caller, &headers, KIND, scene.name.clone(), input, None).await
 }
 
 /// One sampled channel, windowed and decimated
@@ -194,7 +195,7 @@ pub async fn submit(
     )
 )]
 pub async fn signals(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
@@ -215,7 +216,7 @@ pub async fn signals(
             "query parameter 'max_points' must be in 1..={MAX_POINTS}"
         )));
     }
-    succeeded(&state, KIND, &id).await?;
+    succeeded(&state, &caller, KIND, &id).await?;
     let StoredChannel {
         data,
         sample_rate: fs,
@@ -264,12 +265,12 @@ pub async fn signals(
     )
 )]
 pub async fn get(
-    State(s): State<AppState>,
+    State(s): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
-    job_resource::get_job(s, KIND, id, headers, q).await
+    job_resource::get_job(s, &caller, KIND, id, headers, q).await
 }
 
 /// List simulations, newest first
@@ -284,8 +285,8 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
-    job_resource::list(s, KIND, q).await
+pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
+    job_resource::list(s, &caller, KIND, q).await
 }
 
 /// Cancel a queued (at once) or running (within a second) simulation
@@ -304,8 +305,8 @@ pub async fn list(State(s): State<AppState>, RawQuery(q): RawQuery) -> ApiResult
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    job_resource::cancel(s, KIND, id).await
+pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::cancel(s, &caller, KIND, id).await
 }
 
 /// Delete a finished simulation and its outputs
@@ -321,8 +322,8 @@ pub async fn cancel(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    job_resource::delete(s, KIND, id).await
+pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    job_resource::delete(s, &caller, KIND, id).await
 }
 
 /// Result summary of a succeeded simulation
@@ -341,8 +342,8 @@ pub async fn delete(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
         (status = 409, response = Conflict),
     )
 )]
-pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
-    results::result(s, KIND, id).await
+pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    results::result(s, &caller, KIND, id).await
 }
 
 /// Envelope spectrum with characteristic-frequency markers and identified peaks
@@ -361,9 +362,9 @@ pub async fn result(State(s): State<AppState>, Path(id): Path<String>) -> ApiRes
     )
 )]
 pub async fn spectra(
-    State(s): State<AppState>,
+    State(s): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
-    results::spectra(s, KIND, id, q).await
+    results::spectra(s, &caller, KIND, id, q).await
 }

@@ -1,6 +1,6 @@
 //! What every handler shares.
 
-use crate::config::Config;
+use crate::config::{Config, Tokens};
 use crate::metrics::Metrics;
 use crate::store::Store;
 use std::sync::atomic::AtomicBool;
@@ -12,6 +12,8 @@ pub struct AppState {
     pub store: Arc<dyn Store>,
     pub config: Arc<Config>,
     pub metrics: Arc<Metrics>,
+    /// API tokens (empty: the service is open).
+    pub tokens: Arc<Tokens>,
     /// Wakes idle workers when a job is queued.
     pub wake: Arc<Notify>,
     /// False once shutdown began (readiness).

@@ -7,11 +7,12 @@ use super::openapi::responses::{
     BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
+use super::caller::Caller;
 use super::state::AppState;
 use super::study_views::{design_of, rows, study_etag, study_location, view, StudyPage, StudyView};
 use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::store::blob::decode_f32le;
-use crate::store::{ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, Study};
+use crate::store::{ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, StoreError, Study};
 use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
 use crate::studies::{plan, to_csv, StudyRequest, StudyTable};
 use axum::body::Bytes;
@@ -62,7 +63,7 @@ use axum::Json;
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     headers: HeaderMap,
     body: Bytes,
 ) -> ApiResult<Response> {
@@ -123,6 +124,7 @@ pub async fn submit(
             spec: serde_json::to_value(&p.spec).map_err(|e| Problem::internal(e.to_string()))?,
             job: NewJob {
                 id: uuid::Uuid::now_v7().to_string(),
+                tenant: caller.tenant().to_string(),
                 kind: JobKind::Simulation,
                 label: format!("{} [{} point {i}]", p.scene.name, plan.name),
                 input,
@@ -138,6 +140,7 @@ pub async fn submit(
         .create_study(
             NewStudy {
                 id,
+                tenant: caller.tenant().to_string(),
                 label: plan.name.clone(),
                 request: request_json,
                 design: serde_json::to_value(&plan.design)
@@ -194,7 +197,7 @@ fn study_response(status: StatusCode, study: &Study) -> ApiResult<Response> {
     )
 )]
 pub async fn get(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
@@ -202,7 +205,7 @@ pub async fn get(
     long_poll(
         &headers,
         q.as_deref(),
-        || async { Ok(state.store.get_study(&id).await?) },
+        || load_study(&state, &caller, &id),
         study_etag,
         |st| super::study_views::study_state(st).is_finished(),
         |st| study_response(StatusCode::OK, st),
@@ -222,10 +225,14 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(state): State<AppState>, RawQuery(q): RawQuery) -> ApiResult<Response> {
+pub async fn list(State(state): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let (limit, before) = paging(&q, 20, 100)?;
-    let page = state.store.list_studies(before, limit).await?;
+    let scope = caller.list_scope();
+    let page = state
+        .store
+        .list_studies(scope.as_deref(), before, limit)
+        .await?;
     let items = page
         .studies
         .iter()
@@ -254,7 +261,8 @@ pub async fn list(State(state): State<AppState>, RawQuery(q): RawQuery) -> ApiRe
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    load_study(&state, &caller, &id).await?;
     let study = state.store.cancel_study(&id).await?;
     study_response(StatusCode::ACCEPTED, &study)
 }
@@ -272,7 +280,8 @@ pub async fn cancel(State(state): State<AppState>, Path(id): Path<String>) -> Ap
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+    load_study(&state, &caller, &id).await?;
     state.store.delete_study(&id).await?;
     Ok(StatusCode::NO_CONTENT.into_response())
 }
@@ -299,11 +308,11 @@ pub async fn delete(State(state): State<AppState>, Path(id): Path<String>) -> Ap
     )
 )]
 pub async fn table(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
 ) -> ApiResult<Response> {
-    let study = state.store.get_study(&id).await?;
+    let study = load_study(&state, &caller, &id).await?;
     let design = design_of(&study)?;
     let table = StudyTable {
         id: study.id.clone(),
@@ -345,10 +354,10 @@ pub async fn table(
     )
 )]
 pub async fn plot(
-    State(state): State<AppState>,
+    State(state): State<AppState>, caller: Caller,
     Path((id, name)): Path<(String, String)>,
 ) -> ApiResult<Response> {
-    let study = state.store.get_study(&id).await?;
+    let study = load_study(&state, &caller, &id).await?;
     let design = design_of(&study)?;
     let rows = rows(&study)?;
     // the best components' spectra of the succeeded points, read before drawing
@@ -408,4 +417,13 @@ pub fn svg_response(svg: String) -> Response {
         HeaderValue::from_static("image/svg+xml"),
     );
     res
+}
+
+/// The study, if the caller may see it; 404 otherwise (as for an unknown id).
+async fn load_study(state: &AppState, caller: &Caller, id: &str) -> ApiResult<Study> {
+    let study = state.store.get_study(id).await?;
+    if !caller.may_see(&study.tenant) {
+        return Err(StoreError::StudyNotFound(id.to_string()).into());
+    }
+    Ok(study)
 }

@@ -291,6 +291,7 @@ mod tests {
         let job = |i: usize, state: JobState| Job {
             seq: i as i64,
             id: format!("job-{i}"),
+            tenant: String::new(),
             kind: JobKind::Simulation,
             state,
             label: String::new(),
@@ -309,6 +310,7 @@ mod tests {
         Study {
             seq: 1,
             id: "study-1".into(),
+            tenant: String::new(),
             label: String::new(),
             request: serde_json::Value::Null,
             design: serde_json::Value::Null,

@@ -1,5 +1,6 @@
 //! Queueing a job, with `Idempotency-Key` replays.
 
+use super::caller::Caller;
 use super::job_resource::job_response;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
@@ -8,10 +9,12 @@ use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
 use serde_json::Value;
 
-/// Queue a job, honouring `Idempotency-Key`: 202 for a new job, 200 with the original
+/// Queue a job owned by the caller, honouring `Idempotency-Key` (scoped to the caller):
+/// 202 for a new job, 200 with the original
 /// job for a replay of the same request, 422 for the same key with a different request.
 pub async fn enqueue(
     state: &AppState,
+    caller: &Caller,
     headers: &HeaderMap,
     kind: JobKind,
     label: String,
@@ -40,6 +43,7 @@ pub async fn enqueue(
     }
     let new = NewJob {
         id: uuid::Uuid::now_v7().to_string(),
+        tenant: caller.tenant().to_string(),
         kind,
         label,
         input,

@@ -14,6 +14,7 @@ pub mod scene_cmd;
 pub mod serve_cmd;
 pub mod study;
 mod study_plan;
+mod token_cmd;
 
 pub use command::Cli;
 pub use result::CliResult;

@@ -26,6 +26,8 @@ pub enum ServeError {
     Store(#[from] StoreError),
     #[error("server: {0}")]
     Io(#[from] std::io::Error),
+    #[error("configuration: {0}")]
+    Config(String),
     #[error("server task: {0}")]
     Join(#[from] tokio::task::JoinError),
 }
@@ -42,6 +44,15 @@ pub async fn run_until(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> Result<(), ServeError> {
     let config = Arc::new(config);
+    let tokens = Arc::new(config.load_tokens().map_err(ServeError::Config)?);
+    let addr = listener.local_addr()?;
+    if tokens.is_empty() && !addr.ip().is_loopback() {
+        let warning = format!(
+            "WARNING: serving on {addr}, beyond loopback, WITHOUT API TOKENS: anyone who can reach this address can submit, read, cancel and delete every job. Configure --tokens-file (docs/operations.md)."
+        );
+        eprintln!("{warning}");
+        tracing::warn!("{warning}");
+    }
     let store: Arc<dyn Store> = Arc::new(SqliteStore::connect(&config.database_url).await?);
     let metrics = Arc::new(Metrics::default());
     let wake = Arc::new(Notify::new());
@@ -63,9 +74,9 @@ pub async fn run_until(
         ready: ready.clone(),
         direct: Arc::new(Semaphore::new(config.direct_count())),
         openapi_yaml: api::openapi::yaml(),
+        tokens: tokens.clone(),
     };
-    let addr = listener.local_addr()?;
-    tracing::info!(%addr, workers, database = %config.database_url, "serving");
+    tracing::info!(%addr, workers, tokens = tokens.len(), database = %config.database_url, "serving");
 
     let (stop_tx, mut stop_rx) = tokio::sync::watch::channel(false);
     tokio::spawn(async move {

@@ -49,7 +49,7 @@ pub trait Store: Send + Sync + 'static {
     async fn ping(&self) -> Result<(), StoreError>;
 
     /// Queue a job unless the queue holds `max_queued` jobs already. With an idempotency
-    /// key already seen, returns the existing job (`created = false`) when the request hash
+    /// key already seen from the same tenant, returns the existing job (`created = false`) when the request hash
     /// matches and `IdempotencyMismatch` otherwise.
     async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError>;
 
@@ -92,7 +92,8 @@ pub trait Store: Send + Sync + 'static {
     async fn counts(&self) -> Result<StateCounts, StoreError>;
 
     /// Store a study and queue its points, all or nothing. A point whose scene key matches
-    /// a queued, running or succeeded simulation (not being cancelled) shares that job;
+    /// a queued, running or succeeded simulation of the same tenant (not being cancelled)
+    /// shares that job;
     /// identical points within the study share one. `QueueFull` if the new jobs do not fit.
     async fn create_study(
         &self,
@@ -104,7 +105,13 @@ pub trait Store: Send + Sync + 'static {
     async fn get_study(&self, id: &str) -> Result<Study, StoreError>;
 
     /// Newest first; `before` is the cursor returned by the previous page.
-    async fn list_studies(&self, before: Option<i64>, limit: i64) -> Result<StudyPage, StoreError>;
+    /// Only `tenant`'s studies when given.
+    async fn list_studies(
+        &self,
+        tenant: Option<&str>,
+        before: Option<i64>,
+        limit: i64,
+    ) -> Result<StudyPage, StoreError>;
 
     /// Mark the study cancelled and cancel its unfinished points that no other study still
     /// wants. `StudyConflict` if every point has finished.

@@ -129,6 +129,8 @@ pub struct JobError {
 pub struct Job {
     pub seq: i64,
     pub id: String,
+    /// The name of the API token that created it ('' without tokens).
+    pub tenant: String,
     pub kind: JobKind,
     pub state: JobState,
     pub label: String,
@@ -150,6 +152,9 @@ pub struct Job {
 #[derive(Debug, Clone)]
 pub struct NewJob {
     pub id: String,
+    /// The name of the API token submitting it ('' without tokens); scopes the
+    /// idempotency key.
+    pub tenant: String,
     pub kind: JobKind,
     pub label: String,
     pub input: serde_json::Value,
@@ -168,6 +173,8 @@ pub struct Created {
 
 #[derive(Debug, Clone, Default)]
 pub struct ListFilter {
+    /// Only this tenant's jobs (None: everyone's).
+    pub tenant: Option<String>,
     pub kind: Option<JobKind>,
     pub state: Option<JobState>,
     /// Only jobs with `seq` below this (the cursor).
@@ -289,6 +296,8 @@ impl StateCounts {
 #[derive(Debug, Clone)]
 pub struct NewStudy {
     pub id: String,
+    /// Owner of the study and of the jobs queued for it; points share only its jobs.
+    pub tenant: String,
     pub label: String,
     pub request: serde_json::Value,
     pub design: serde_json::Value,
@@ -317,6 +326,7 @@ pub struct StudyCreated {
 pub struct Study {
     pub seq: i64,
     pub id: String,
+    pub tenant: String,
     pub label: String,
     pub request: serde_json::Value,
     pub design: serde_json::Value,

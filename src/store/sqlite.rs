@@ -18,7 +18,7 @@ pub struct SqliteStore {
 }
 
 const JOB_COLUMNS: &str =
-    "seq, id, kind, state, label, progress, attempt, cancel_requested, version, \
+    "seq, id, tenant, kind, state, label, progress, attempt, cancel_requested, version, \
      created_at, started_at, finished_at, updated_at, error, stats, result";
 
 impl SqliteStore {
@@ -54,6 +54,16 @@ impl SqliteStore {
     }
 }
 
+/// The idempotency key as stored: a tenant's keys live apart from every other tenant's
+/// (the unit separator cannot occur in a header value); without tokens it is the key.
+fn scoped_idempotency_key(tenant: &str, key: &str) -> String {
+    if tenant.is_empty() {
+        key.to_string()
+    } else {
+        format!("{tenant}\u{1f}{key}")
+    }
+}
+
 fn parse_json(s: Option<String>) -> Option<serde_json::Value> {
     s.and_then(|s| serde_json::from_str(&s).ok())
 }
@@ -66,6 +76,7 @@ fn job_from_row(r: &SqliteRow) -> Result<Job, StoreError> {
     Ok(Job {
         seq: r.try_get("seq")?,
         id: r.try_get("id")?,
+        tenant: r.try_get("tenant")?,
         kind: JobKind::parse(&kind).ok_or_else(|| decode("kind", &kind))?,
         state: JobState::parse(&state).ok_or_else(|| decode("state", &state))?,
         label: r.try_get("label")?,
@@ -84,7 +95,7 @@ fn job_from_row(r: &SqliteRow) -> Result<Job, StoreError> {
 }
 
 const STUDY_COLUMNS: &str =
-    "seq, id, label, request, design, cancel_requested, version, created_at, updated_at";
+    "seq, id, tenant, label, request, design, cancel_requested, version, created_at, updated_at";
 
 fn study_from_row(r: &SqliteRow) -> Result<Study, StoreError> {
     let json = |col: &str| -> Result<serde_json::Value, StoreError> {
@@ -98,6 +109,7 @@ fn study_from_row(r: &SqliteRow) -> Result<Study, StoreError> {
     Ok(Study {
         seq: r.try_get("seq")?,
         id: r.try_get("id")?,
+        tenant: r.try_get("tenant")?,
         label: r.try_get("label")?,
         request: json("request")?,
         design: json("design")?,
@@ -156,18 +168,23 @@ impl Store for SqliteStore {
 
     async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError> {
         let now = now_ms();
+        let scoped_key = job
+            .idempotency_key
+            .as_deref()
+            .map(|k| scoped_idempotency_key(&job.tenant, k));
         // One statement: admission check and insert are atomic; a duplicate key inserts nothing.
         let inserted = sqlx::query(
-            "INSERT INTO jobs (id, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at) \
-             SELECT ?, ?, 'queued', ?, ?, ?, ?, ?, ?, ? \
+            "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at) \
+             SELECT ?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?, ? \
              WHERE (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < ? \
              ON CONFLICT (idempotency_key) DO NOTHING",
         )
         .bind(&job.id)
+        .bind(&job.tenant)
         .bind(job.kind.as_str())
         .bind(job.input.to_string())
         .bind(job.input_blob.as_deref())
-        .bind(job.idempotency_key.as_deref())
+        .bind(scoped_key.as_deref())
         .bind(&job.request_hash)
         .bind(&job.label)
         .bind(now)
@@ -183,7 +200,7 @@ impl Store for SqliteStore {
                 .ok_or_else(|| StoreError::NotFound(job.id.clone()))?;
             return Ok(Created { job, created: true });
         }
-        if let Some(key) = &job.idempotency_key {
+        if let Some(key) = &scoped_key {
             let row =
                 sqlx::query("SELECT id, request_hash, kind FROM jobs WHERE idempotency_key = ?")
                     .bind(key)
@@ -217,12 +234,14 @@ impl Store for SqliteStore {
         let rows = sqlx::query(&format!(
             "SELECT {JOB_COLUMNS} FROM jobs \
              WHERE (?1 IS NULL OR kind = ?1) AND (?2 IS NULL OR state = ?2) AND (?3 IS NULL OR seq < ?3) \
+               AND (?5 IS NULL OR tenant = ?5) \
              ORDER BY seq DESC LIMIT ?4"
         ))
         .bind(f.kind.map(|k| k.as_str()))
         .bind(f.state.map(|s| s.as_str()))
         .bind(f.before)
         .bind(limit + 1)
+        .bind(f.tenant.as_deref())
         .fetch_all(&self.pool)
         .await?;
         let mut jobs = rows
@@ -533,10 +552,11 @@ impl Store for SqliteStore {
         let mut tx = self.pool.begin().await?;
         // The first statement writes, so the transaction holds the write lock throughout.
         sqlx::query(
-            "INSERT INTO studies (id, label, request, design, created_at, updated_at) \
-             VALUES (?, ?, ?, ?, ?, ?)",
+            "INSERT INTO studies (id, tenant, label, request, design, created_at, updated_at) \
+             VALUES (?, ?, ?, ?, ?, ?, ?)",
         )
         .bind(&study.id)
+        .bind(&study.tenant)
         .bind(&study.label)
         .bind(study.request.to_string())
         .bind(study.design.to_string())
@@ -555,11 +575,12 @@ impl Store for SqliteStore {
                 id.clone()
             } else {
                 let existing: Option<String> = sqlx::query_scalar(
-                    "SELECT id FROM jobs WHERE scene_key = ? AND kind = 'simulation' \
+                    "SELECT id FROM jobs WHERE scene_key = ? AND tenant = ? AND kind = 'simulation' \
                      AND state IN ('queued', 'running', 'succeeded') AND cancel_requested = 0 \
                      ORDER BY seq DESC LIMIT 1",
                 )
                 .bind(&p.scene_key)
+                .bind(&study.tenant)
                 .fetch_optional(&mut *tx)
                 .await?;
                 let id = match existing {
@@ -570,10 +591,11 @@ impl Store for SqliteStore {
                     None => {
                         let j = &p.job;
                         sqlx::query(
-                            "INSERT INTO jobs (id, kind, state, input, request_hash, label, scene_key, created_at, updated_at) \
-                             VALUES (?, ?, 'queued', ?, ?, ?, ?, ?, ?)",
+                            "INSERT INTO jobs (id, tenant, kind, state, input, request_hash, label, scene_key, created_at, updated_at) \
+                             VALUES (?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?)",
                         )
                         .bind(&j.id)
+                        .bind(&study.tenant)
                         .bind(j.kind.as_str())
                         .bind(j.input.to_string())
                         .bind(&j.request_hash)
@@ -623,13 +645,20 @@ impl Store for SqliteStore {
         Ok(study)
     }
 
-    async fn list_studies(&self, before: Option<i64>, limit: i64) -> Result<StudyPage, StoreError> {
+    async fn list_studies(
+        &self,
+        tenant: Option<&str>,
+        before: Option<i64>,
+        limit: i64,
+    ) -> Result<StudyPage, StoreError> {
         let limit = limit.clamp(1, 500);
         let rows = sqlx::query(&format!(
-            "SELECT {STUDY_COLUMNS} FROM studies WHERE (?1 IS NULL OR seq < ?1) ORDER BY seq DESC LIMIT ?2"
+            "SELECT {STUDY_COLUMNS} FROM studies WHERE (?1 IS NULL OR seq < ?1) \
+             AND (?3 IS NULL OR tenant = ?3) ORDER BY seq DESC LIMIT ?2"
         ))
         .bind(before)
         .bind(limit + 1)
+        .bind(tenant)
         .fetch_all(&self.pool)
         .await?;
         let mut studies = Vec::with_capacity(rows.len());
@@ -767,6 +796,7 @@ mod tests {
     fn new_job(key: Option<&str>, hash: &str) -> NewJob {
         NewJob {
             id: uuid::Uuid::now_v7().to_string(),
+            tenant: String::new(),
             kind: JobKind::Simulation,
             label: "t".into(),
             input: json!({}),

@@ -25,7 +25,10 @@ Status codes: 400 malformed JSON or query parameter; 404 unknown id or route;
 405 wrong method; 408 request timeout; 409 invalid state transition (e.g. the result
 of an unfinished job); 413 body too large; 415 wrong Content-Type; 422 invalid
 content, or an `Idempotency-Key` reused with a different body; 429 queue full (with
-`Retry-After`).
+`Retry-After`); 401 missing or unknown token, when the service is configured with
+tokens (`Authorization: Bearer <token>`; each token sees only the jobs and studies it
+created); 431 request headers too large; 503 over the connection bound or shutting
+down.
 
 Units are SI (m, kg, s, N, Pa, rad) unless a field name says otherwise (`*_rpm`:
 rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
@@ -95,10 +98,54 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         responses::QueueFull,
         responses::Unavailable,
         responses::RequestTimeout,
+        responses::Unauthorized,
         )
-    )
+    ),
+    modifiers(&BearerTokens)
 )]
 struct ApiDoc;
+
+/// The optional bearer tokens: every `/v1` operation accepts a token (required when the
+/// service is configured with tokens) and may answer 401.
+struct BearerTokens;
+
+impl utoipa::Modify for BearerTokens {
+    fn modify(&self, doc: &mut utoipa::openapi::OpenApi) {
+        use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityRequirement, SecurityScheme};
+        use utoipa::openapi::{Ref, RefOr};
+        if let Some(c) = doc.components.as_mut() {
+            c.add_security_scheme(
+                "bearer",
+                SecurityScheme::Http(HttpBuilder::new().scheme(HttpAuthScheme::Bearer).build()),
+            );
+        }
+        for (path, item) in doc.paths.paths.iter_mut() {
+            if !path.starts_with("/v1/") {
+                continue;
+            }
+            for op in [
+                item.get.as_mut(),
+                item.post.as_mut(),
+                item.delete.as_mut(),
+                item.put.as_mut(),
+                item.patch.as_mut(),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                // anonymous (a service without tokens) or a bearer token
+                op.security = Some(vec![
+                    SecurityRequirement::default(),
+                    SecurityRequirement::new("bearer", Vec::<String>::new()),
+                ]);
+                op.responses.responses.insert(
+                    "401".into(),
+                    RefOr::Ref(Ref::from_response_name("Unauthorized")),
+                );
+            }
+        }
+    }
+}
 
 /// The document.
 pub fn document() -> utoipa::openapi::OpenApi {

@@ -93,3 +93,17 @@ pub struct RequestTimeout(Problem);
 #[derive(ToResponse)]
 #[response(content_type = "application/problem+json")]
 pub struct Unavailable(Problem);
+
+/// This service requires an API token (`Authorization: Bearer <token>`), and none or an
+/// unknown one was sent.
+#[derive(ToResponse)]
+#[response(
+    content_type = "application/problem+json",
+    example = json!({
+        "type": "urn:bearing-sim:problem:unauthorized",
+        "title": "Unauthorized",
+        "status": 401,
+        "detail": "this service requires a token: send Authorization: Bearer <token>"
+    })
+)]
+pub struct Unauthorized(Problem);

@@ -1,6 +1,11 @@
 //! Service configuration: every setting is a flag with an environment variable.
 
+mod tokens;
+
+pub use tokens::{hash_token, Tokens};
+
 use std::net::SocketAddr;
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct Config {
@@ -41,6 +46,21 @@ pub struct Config {
         value_parser = parse_cors_origin
     )]
     pub cors_origins: Vec<String>,
+
+    /// File of API tokens, `name:sha256hex` per line (`bearing-sim token NAME` makes one).
+    /// With tokens configured every `/v1` request needs `Authorization: Bearer <token>`,
+    /// and each token sees and changes only what it created.
+    #[arg(long, env = "BEARING_SIM_TOKENS_FILE")]
+    pub tokens_file: Option<PathBuf>,
+
+    /// API tokens as comma-separated `name:sha256hex` entries (added to --tokens-file).
+    #[arg(long, env = "BEARING_SIM_TOKENS", default_value = "", hide_env_values = true)]
+    pub tokens: String,
+
+    /// With tokens: let GET requests without a token read every job and study (a read-only
+    /// lab dashboard); writes still need a token.
+    #[arg(long, env = "BEARING_SIM_OPEN_READS")]
+    pub open_reads: bool,
 
     /// Log format on stderr: `text` or `json`.
     #[arg(long, env = "BEARING_SIM_LOG_FORMAT", default_value = "text", value_parser = ["text", "json"])]
@@ -107,6 +127,17 @@ pub struct Config {
 }
 
 impl Config {
+    /// The configured tokens (file and list), or why they cannot be read.
+    pub fn load_tokens(&self) -> Result<Tokens, String> {
+        let mut t = Tokens::parse(&self.tokens, "--tokens")?;
+        if let Some(path) = &self.tokens_file {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| format!("--tokens-file {}: {e}", path.display()))?;
+            t.merge(Tokens::parse(&text, &path.display().to_string())?)?;
+        }
+        Ok(t)
+    }
+
     pub fn worker_count(&self) -> usize {
         self.workers.unwrap_or_else(|| {
             std::thread::available_parallelism()

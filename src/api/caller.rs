@@ -1,0 +1,100 @@
+//! Who is calling: the `authenticate` middleware turns the bearer token into a
+//! [`Caller`] (the tenant), and handlers take it as an extractor to scope what they show
+//! and change.
+
+use super::problem::Problem;
+use super::state::AppState;
+use axum::extract::{FromRequestParts, Request, State};
+use axum::http::request::Parts;
+use axum::http::{header, HeaderValue, Method, StatusCode};
+use axum::middleware::Next;
+use axum::response::{IntoResponse, Response};
+use std::convert::Infallible;
+
+/// The tenant of a request: the name of its token ('' without tokens), and whether it
+/// may read everyone's jobs (a token-less GET with `--open-reads`).
+#[derive(Debug, Clone, Default)]
+pub struct Caller {
+    tenant: String,
+    reads_all: bool,
+}
+
+impl Caller {
+    /// The owner recorded on what this caller creates.
+    pub fn tenant(&self) -> &str {
+        &self.tenant
+    }
+
+    /// May this caller see a resource owned by `owner`? (Others' resources answer 404,
+    /// so their ids reveal nothing.)
+    pub fn may_see(&self, owner: &str) -> bool {
+        self.reads_all || owner == self.tenant
+    }
+
+    /// The tenant to scope a listing to (None: everyone's).
+    pub fn list_scope(&self) -> Option<String> {
+        (!self.reads_all).then(|| self.tenant.clone())
+    }
+}
+
+impl<S: Send + Sync> FromRequestParts<S> for Caller {
+    type Rejection = Infallible;
+
+    async fn from_request_parts(parts: &mut Parts, _: &S) -> Result<Self, Self::Rejection> {
+        // set by `authenticate` on every /v1 route; absent only without tokens
+        Ok(parts.extensions.get::<Caller>().cloned().unwrap_or_default())
+    }
+}
+
+fn unauthorized(detail: &str) -> Response {
+    let mut res = Problem::new(StatusCode::UNAUTHORIZED, Some("unauthorized"), "Unauthorized", detail)
+        .into_response();
+    res.headers_mut().insert(
+        header::WWW_AUTHENTICATE,
+        HeaderValue::from_static("Bearer realm=\"bearing-sim\""),
+    );
+    res
+}
+
+/// With tokens configured, every `/v1` request needs `Authorization: Bearer <token>`
+/// (token-less GETs too, unless `--open-reads`); health, metrics, the OpenAPI document
+/// and the web page stay open.
+pub async fn authenticate(State(state): State<AppState>, mut req: Request, next: Next) -> Response {
+    if state.tokens.is_empty() || !req.uri().path().starts_with("/v1/") {
+        return next.run(req).await;
+    }
+    let caller = match req.headers().get(header::AUTHORIZATION) {
+        Some(v) => {
+            let token = v
+                .to_str()
+                .ok()
+                .and_then(|s| s.strip_prefix("Bearer "))
+                .map(str::trim);
+            let Some(token) = token else {
+                return unauthorized("the Authorization header must be 'Bearer <token>'");
+            };
+            match state.tokens.name_of(token) {
+                Some(name) => Caller {
+                    tenant: name.to_string(),
+                    reads_all: false,
+                },
+                None => return unauthorized("the token is not configured on this service"),
+            }
+        }
+        None if state.config.open_reads
+            && matches!(*req.method(), Method::GET | Method::HEAD) =>
+        {
+            Caller {
+                tenant: String::new(),
+                reads_all: true,
+            }
+        }
+        None => {
+            return unauthorized(
+                "this service requires a token: send Authorization: Bearer <token>",
+            )
+        }
+    };
+    req.extensions_mut().insert(caller);
+    next.run(req).await
+}
