@@ -58,6 +58,8 @@ pub struct Metrics {
     /// HTTP connections open now, and those refused at the connection bound.
     connections_open: AtomicI64,
     connections_refused: AtomicI64,
+    /// Finished jobs deleted by retention.
+    jobs_expired: AtomicI64,
 }
 
 /// Decrements the open-connections gauge when a connection closes.
@@ -126,6 +128,11 @@ impl Metrics {
         ConnectionGuard(self.clone())
     }
 
+    /// Count jobs deleted by retention.
+    pub fn expired(&self, jobs: u64) {
+        self.jobs_expired.fetch_add(jobs as i64, Ordering::SeqCst);
+    }
+
     /// Count a connection refused at the connection bound.
     pub fn connection_refused(&self) {
         self.connections_refused.fetch_add(1, Ordering::SeqCst);
@@ -149,9 +156,21 @@ impl Metrics {
         self.running.load(Ordering::SeqCst)
     }
 
-    /// Render everything; `jobs_by_state` comes from the store at scrape time.
-    pub fn render(&self, jobs_by_state: &[(&str, i64)], workers: usize) -> String {
+    /// Render everything; `jobs_by_state` and `stored_bytes` come from the store at
+    /// scrape time.
+    pub fn render(
+        &self,
+        jobs_by_state: &[(&str, i64)],
+        stored_bytes: i64,
+        workers: usize,
+    ) -> String {
         let mut out = String::new();
+        let _ = writeln!(
+            out,
+            "# HELP bearing_sim_store_bytes Bytes held by jobs and their outputs in the database (--max-store-bytes bounds it)."
+        );
+        let _ = writeln!(out, "# TYPE bearing_sim_store_bytes gauge");
+        let _ = writeln!(out, "bearing_sim_store_bytes {stored_bytes}");
         let queued = jobs_by_state
             .iter()
             .find(|(s, _)| *s == "queued")
@@ -210,6 +229,11 @@ impl Metrics {
         );
 
         for (name, help, v) in [
+            (
+                "bearing_sim_jobs_expired_total",
+                "Finished jobs deleted by retention (--retention).",
+                &self.jobs_expired,
+            ),
             (
                 "bearing_sim_connections_refused_total",
                 "Connections answered 503 at the connection bound (--max-connections).",

@@ -78,7 +78,7 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
     let (st, _, full) = get_json(
         &c,
         &s.url(&format!(
-            "/v1/simulations/{id}/signals?channel={name}&max_points=1000000"
+            "/v1/simulations/{id}/signals?channel={name}&max_points=200000"
         )),
     )
     .await;

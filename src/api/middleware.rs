@@ -87,8 +87,21 @@ pub async fn refuse_declared_oversize(
         );
         return res;
     }
+    // A large body (or one of unknown length) waits for a large-transfer permit before a
+    // byte of it is read, and holds it until the answer is made: the bodies held in memory
+    // at once stay bounded by --max-large-transfers, not by the connection count.
+    let chunked = declared.is_none() && req.headers().contains_key(header::TRANSFER_ENCODING);
+    if declared.is_some_and(|n| n > LARGE_BODY) || chunked {
+        let Ok(_permit) = state.large.clone().acquire_owned().await else {
+            return Problem::unavailable("shutting down").into_response();
+        };
+        return next.run(req).await;
+    }
     next.run(req).await
 }
+
+/// A request body above this many bytes is a large transfer.
+const LARGE_BODY: u64 = 1024 * 1024;
 
 pub async fn record_latency(State(state): State<AppState>, req: Request, next: Next) -> Response {
     let route = req

@@ -66,7 +66,10 @@ pub async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
         .iter()
         .map(|s| (s.as_str(), counts.get(*s)))
         .collect();
-    let text = state.metrics.render(&by_state, state.config.worker_count());
+    let stored = state.store.stored_bytes().await?;
+    let text = state
+        .metrics
+        .render(&by_state, stored, state.config.worker_count());
     Ok((
         [(
             header::CONTENT_TYPE,

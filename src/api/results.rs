@@ -253,6 +253,13 @@ pub async fn spectra(
         }
     };
     let which = query.choice.kind();
+    // a spectrum is up to n/2 bins, held as f32 and then as JSON: a few at a time
+    let _permit = state
+        .large
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|_| Problem::unavailable("shutting down"))?;
     let Some(a) = state
         .store
         .get_artifact(&id, &spectrum_artifact_name(level))

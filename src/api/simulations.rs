@@ -29,7 +29,7 @@ use utoipa::ToSchema;
 
 /// Default and largest number of points returned by `signals`.
 const DEFAULT_POINTS: usize = 10_000;
-const MAX_POINTS: usize = 1_000_000;
+const MAX_POINTS: usize = 200_000;
 
 const KIND: JobKind = JobKind::Simulation;
 
@@ -217,6 +217,13 @@ pub async fn signals(
         )));
     }
     succeeded(&state, &caller, KIND, &id).await?;
+    // a channel is up to 20 MB in memory while it is decimated: a few at a time
+    let _permit = state
+        .large
+        .clone()
+        .acquire_owned()
+        .await
+        .map_err(|_| Problem::unavailable("shutting down"))?;
     let StoredChannel {
         data,
         sample_rate: fs,

@@ -18,6 +18,8 @@ pub struct AppState {
     pub wake: Arc<Notify>,
     /// False once shutdown began (readiness).
     pub ready: Arc<AtomicBool>,
+    /// Bounds large transfers in flight: big request bodies, channel and spectrum answers.
+    pub large: Arc<Semaphore>,
     /// Bounds direct (non-queued) computations: quasi-static solves, small analyses.
     pub direct: Arc<Semaphore>,
     /// The OpenAPI document served at `/openapi.yaml` (`api::openapi::yaml()`; handed in so

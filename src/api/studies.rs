@@ -68,6 +68,7 @@ pub async fn submit(
     body: Bytes,
 ) -> ApiResult<Response> {
     require_json(&headers)?;
+    super::submission::check_storage(&state).await?;
     let value = parse_value(&body)?;
     let req: StudyRequest = super::extract::from_value(value, "")?;
     let request_json = serde_json::to_value(&req).map_err(|e| Problem::internal(e.to_string()))?;

@@ -36,6 +36,7 @@ pub async fn enqueue(
             Some(String::from_utf8_lossy(b).into_owned())
         }
     };
+    check_storage(state).await?;
     let mut hasher = Fnv1a::default();
     hasher.write(input.to_string().as_bytes());
     if let Some(b) = &blob {
@@ -59,6 +60,24 @@ pub async fn enqueue(
     } else {
         Ok(job_response(StatusCode::OK, &created.job))
     }
+}
+
+/// 507 while the database holds more than `--max-store-bytes`: nothing new is accepted
+/// until retention or DELETE frees space (what was accepted is never dropped for room).
+pub async fn check_storage(state: &AppState) -> ApiResult<()> {
+    let held = state.store.stored_bytes().await?;
+    let limit = state.config.max_store_bytes;
+    if held > limit {
+        return Err(Problem::new(
+            StatusCode::INSUFFICIENT_STORAGE,
+            Some("storage-full"),
+            "Insufficient storage",
+            format!(
+                "the service holds {held} bytes of jobs and results, over its limit of {limit} (--max-store-bytes); delete finished jobs or wait for retention"
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// FNV-1a, 64 bit: a stable fingerprint of a request or a study's versions (not a

@@ -121,6 +121,29 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_JOB_TIME_LIMIT", default_value_t = 3600.0)]
     pub job_time_limit: f64,
 
+    /// Finished jobs and studies are deleted this long after they finished, s (with their
+    /// signals and spectra); 0 keeps them until deleted. Default 30 days.
+    #[arg(long, env = "BEARING_SIM_RETENTION", default_value_t = 30.0 * 86400.0)]
+    pub retention: f64,
+
+    /// Bytes the database may hold in jobs and their outputs; past it submissions get
+    /// 507 until retention or DELETE frees space. Default 20 GiB.
+    #[arg(long, env = "BEARING_SIM_MAX_STORE_BYTES", default_value_t = 20 * 1024 * 1024 * 1024)]
+    pub max_store_bytes: i64,
+
+    /// Largest estimated storage of one analysis job, bytes: its samples (8 per sample)
+    /// and its envelope spectra (4 per bin, levels + 1 spectra of n/2 bins). Default 128
+    /// MiB: 3.2 million samples at 16 levels, 7 million at 5; about 1 GB of memory while
+    /// it runs (docs/operations.md).
+    #[arg(long, env = "BEARING_SIM_MAX_JOB_BYTES", default_value_t = 128 * 1024 * 1024)]
+    pub max_job_bytes: i64,
+
+    /// Large transfers handled at once: request bodies over 1 MiB (or of unknown length)
+    /// and channel or spectrum responses; more wait their turn (within the request
+    /// timeout), so memory stays near this many times the body limit.
+    #[arg(long, env = "BEARING_SIM_MAX_LARGE_TRANSFERS", default_value_t = 4)]
+    pub max_large_transfers: usize,
+
     /// Grace period on shutdown for running jobs to stop and be requeued, s.
     #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
     pub shutdown_grace: f64,

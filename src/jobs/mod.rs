@@ -12,6 +12,7 @@ mod env;
 pub mod outcome;
 mod pool;
 pub mod record;
+mod retention;
 mod runner;
 pub mod simulation_job;
 

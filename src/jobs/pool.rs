@@ -11,6 +11,7 @@ pub struct WorkerPool {
     shutdown: watch::Sender<bool>,
     workers: Vec<JoinHandle<()>>,
     recovery: JoinHandle<()>,
+    retention: JoinHandle<()>,
 }
 
 impl WorkerPool {
@@ -26,11 +27,13 @@ impl WorkerPool {
                 tokio::spawn(runner::worker_loop(env, owner, rx))
             })
             .collect();
+        let retention = tokio::spawn(super::retention::retention_loop(env.clone(), rx.clone()));
         let recovery = tokio::spawn(recovery_loop(env, rx));
         WorkerPool {
             shutdown: tx,
             workers,
             recovery,
+            retention,
         }
     }
 
@@ -42,6 +45,7 @@ impl WorkerPool {
             tracing::warn!("workers did not stop within {grace:?}; their leases will expire and requeue the jobs");
         }
         self.recovery.abort();
+        self.retention.abort();
     }
 }
 

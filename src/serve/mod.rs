@@ -73,6 +73,7 @@ pub async fn run_until(
         wake,
         ready: ready.clone(),
         direct: Arc::new(Semaphore::new(config.direct_count())),
+        large: Arc::new(Semaphore::new(config.max_large_transfers.max(1))),
         openapi_yaml: api::openapi::yaml(),
         tokens: tokens.clone(),
     };

@@ -88,6 +88,15 @@ pub trait Store: Send + Sync + 'static {
 
     async fn get_artifact(&self, id: &str, name: &str) -> Result<Option<Artifact>, StoreError>;
 
+    /// Bytes held by jobs (inputs, input blobs, results) and their artifacts: what the
+    /// storage bound (`--max-store-bytes`) and the metrics count.
+    async fn stored_bytes(&self) -> Result<i64, StoreError>;
+
+    /// Delete what finished before `before_ms` (unix ms): studies all of whose points
+    /// finished before it, then finished jobs no study holds, with their artifacts.
+    /// Returns (jobs, studies) deleted.
+    async fn expire(&self, before_ms: i64) -> Result<(u64, u64), StoreError>;
+
     /// Number of jobs per state, for metrics and admission.
     async fn counts(&self) -> Result<StateCounts, StoreError>;
 

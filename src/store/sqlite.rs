@@ -529,6 +529,49 @@ impl Store for SqliteStore {
         })
     }
 
+    async fn stored_bytes(&self) -> Result<i64, StoreError> {
+        // length() of a blob reads its size from the record header, not the blob
+        let jobs: i64 = sqlx::query_scalar(
+            "SELECT COALESCE(SUM(LENGTH(input) + COALESCE(LENGTH(input_blob), 0) \
+                 + COALESCE(LENGTH(result), 0) + COALESCE(LENGTH(stats), 0)), 0) FROM jobs",
+        )
+        .fetch_one(&self.pool)
+        .await?;
+        let artifacts: i64 =
+            sqlx::query_scalar("SELECT COALESCE(SUM(LENGTH(data) + LENGTH(meta)), 0) FROM artifacts")
+                .fetch_one(&self.pool)
+                .await?;
+        Ok(jobs + artifacts)
+    }
+
+    async fn expire(&self, before_ms: i64) -> Result<(u64, u64), StoreError> {
+        let mut tx = self.pool.begin().await?;
+        // a study goes when every point's job finished before the cutoff (its points go
+        // with it: ON DELETE CASCADE)
+        let studies = sqlx::query(
+            "DELETE FROM studies WHERE updated_at < ?1 AND NOT EXISTS ( \
+                 SELECT 1 FROM study_points sp JOIN jobs j ON j.id = sp.job_id \
+                 WHERE sp.study_id = studies.id \
+                   AND (j.state NOT IN ('succeeded', 'failed', 'cancelled') OR j.finished_at >= ?1))",
+        )
+        .bind(before_ms)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
+        // then the finished jobs no study holds any more (artifacts: ON DELETE CASCADE)
+        let jobs = sqlx::query(
+            "DELETE FROM jobs WHERE state IN ('succeeded', 'failed', 'cancelled') \
+                 AND finished_at < ?1 \
+                 AND NOT EXISTS (SELECT 1 FROM study_points sp WHERE sp.job_id = jobs.id)",
+        )
+        .bind(before_ms)
+        .execute(&mut *tx)
+        .await?
+        .rows_affected();
+        tx.commit().await?;
+        Ok((jobs, studies))
+    }
+
     async fn counts(&self) -> Result<StateCounts, StoreError> {
         let rows = sqlx::query("SELECT state, COUNT(*) AS n FROM jobs GROUP BY state")
             .fetch_all(&self.pool)

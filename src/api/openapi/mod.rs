@@ -28,7 +28,7 @@ content, or an `Idempotency-Key` reused with a different body; 429 queue full (w
 `Retry-After`); 401 missing or unknown token, when the service is configured with
 tokens (`Authorization: Bearer <token>`; each token sees only the jobs and studies it
 created); 431 request headers too large; 503 over the connection bound or shutting
-down.
+down; 507 the service's storage limit is reached (delete finished jobs).
 
 Units are SI (m, kg, s, N, Pa, rad) unless a field name says otherwise (`*_rpm`:
 rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).

@@ -68,7 +68,7 @@ pub struct SignalsQuery {
     /// End of the window, s of simulated time (a window ending before `from` is empty).
     pub to: Option<f64>,
     /// At most this many points (default 10000); longer windows keep every k-th sample.
-    #[param(minimum = 1, maximum = 1000000)]
+    #[param(minimum = 1, maximum = 200000)]
     pub max_points: Option<usize>,
 }
 
