@@ -110,11 +110,20 @@ impl Problem {
         )
     }
 
-    pub fn validation(errors: Vec<FieldProblem>) -> Problem {
-        let detail = if errors.len() == 1 {
+    /// A 422 listing the problems, at most [`MAX_LISTED_PROBLEMS`] of them (the detail
+    /// says how many there were), so a request with 100 000 bad items cannot make a
+    /// megabyte answer.
+    pub fn validation(mut errors: Vec<FieldProblem>) -> Problem {
+        let total = errors.len();
+        let detail = if total == 1 {
             format!("{}: {}", errors[0].path, errors[0].message)
+        } else if total > MAX_LISTED_PROBLEMS {
+            errors.truncate(MAX_LISTED_PROBLEMS);
+            format!(
+                "{total} problems in the request; errors lists the first {MAX_LISTED_PROBLEMS}"
+            )
         } else {
-            format!("{} problems in the request; see errors", errors.len())
+            format!("{total} problems in the request; see errors")
         };
         let mut p = Problem::new(
             StatusCode::UNPROCESSABLE_ENTITY,
@@ -167,6 +176,9 @@ impl Problem {
         StatusCode::from_u16(self.status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR)
     }
 }
+
+/// Most problems a 422 lists.
+pub const MAX_LISTED_PROBLEMS: usize = 100;
 
 pub fn join_path(prefix: &str, path: &str) -> String {
     // serde_path_to_error says "." and the scene's serde errors "$" for the root.
@@ -235,3 +247,21 @@ impl From<StoreError> for Problem {
 }
 
 pub type ApiResult<T> = Result<T, Problem>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_long_problem_list_is_cut_and_says_so() {
+        let many = (0..100_000)
+            .map(|i| FieldProblem {
+                path: format!("faults[{i}].width"),
+                message: "must be > 0 m".into(),
+            })
+            .collect();
+        let p = Problem::validation(many);
+        assert_eq!(p.errors.as_ref().unwrap().len(), MAX_LISTED_PROBLEMS);
+        assert!(p.detail.contains("100000 problems") && p.detail.contains("first 100"), "{}", p.detail);
+    }
+}
