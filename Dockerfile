@@ -20,8 +20,12 @@ RUN --mount=type=cache,target=/usr/local/cargo/registry \
 FROM gcr.io/distroless/cc-debian12:nonroot
 COPY --from=build /bearing-sim /usr/local/bin/bearing-sim
 COPY --from=build --chown=65532:65532 /data /data
+# The container listens on every interface, so it requires API tokens: mount a tokens
+# file (lines from `bearing-sim token NAME`) at /run/secrets/bearing-sim-tokens, or set
+# BEARING_SIM_TOKENS_FILE= (empty) to run open, with a warning (docs/operations.md).
 ENV BEARING_SIM_BIND=0.0.0.0:8080 \
     BEARING_SIM_DATABASE_URL=sqlite:///data/bearing-sim.db \
+    BEARING_SIM_TOKENS_FILE=/run/secrets/bearing-sim-tokens \
     BEARING_SIM_LOG_FORMAT=json
 USER 65532:65532
 VOLUME ["/data"]

@@ -153,7 +153,8 @@ impl Config {
     /// The configured tokens (file and list), or why they cannot be read.
     pub fn load_tokens(&self) -> Result<Tokens, String> {
         let mut t = Tokens::parse(&self.tokens, "--tokens")?;
-        if let Some(path) = &self.tokens_file {
+        // an empty path (BEARING_SIM_TOKENS_FILE= in a container) means no file
+        if let Some(path) = self.tokens_file.as_ref().filter(|p| !p.as_os_str().is_empty()) {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("--tokens-file {}: {e}", path.display()))?;
             t.merge(Tokens::parse(&text, &path.display().to_string())?)?;
