@@ -150,6 +150,15 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
             .starts_with("points[0].scene.solver."),
         "{p}"
     );
+    // a run whose output would be over the per-job storage limit names the output fields
+    let body = json!({"preset": "h7005c", "overrides": {
+        "solver": {"duration": 10, "sample_rate": 500000},
+        "outputs": {"cage_speed": true, "inner_ring_displacement": true, "contact_loads_ball": 0}}});
+    let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
+    assert_eq!(st, 422, "{p}");
+    let paths: Vec<&str> = p["errors"].as_array().unwrap().iter().map(|e| e["path"].as_str().unwrap()).collect();
+    assert_eq!(paths, ["scene.solver.duration", "scene.solver.sample_rate"], "{p}");
+    assert!(p["errors"][1]["message"].as_str().unwrap().contains("--max-job-bytes"), "{p}");
     // a normal scene is within the default budget
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &short_scene(0.5)).await;
     assert_eq!(st, 202, "{p}");
