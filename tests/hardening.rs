@@ -636,3 +636,39 @@ async fn the_largest_accepted_analysis_stays_under_its_memory_bound() {
     assert_eq!(p["errors"][0]["path"], "samples", "{p}");
     assert_eq!(p["errors"][1]["path"], "options.levels", "{p}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn large_transfers_wait_their_turn_and_max_points_is_bounded() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(
+        &db,
+        &["--workers", "1", "--max-large-transfers", "1", "--request-timeout", "2"],
+    );
+    let c = client();
+    let id = submit(&c, &app, &short_scene(0.02)).await;
+    wait_finished(&c, &app, &id, Duration::from_secs(60)).await;
+    let signals = app.url(&format!(
+        "/v1/simulations/{id}/signals?channel=outer_ring_accel_z"
+    ));
+    // the 1 000 000 points are over the bound now
+    let (st, h, p) = get_json(&c, &format!("{signals}&max_points=1000000")).await;
+    assert_problem(st, &h, &p, 400);
+    assert!(p["detail"].as_str().unwrap().contains("200000"), "{p}");
+
+    // a 2 MB upload that stalls holds the only large-transfer permit until its request
+    // timeout (2 s) answers it; a signal read meanwhile waits for the permit, then succeeds
+    let addr = app.base.trim_start_matches("http://").to_string();
+    let mut upload = TcpStream::connect(&addr).unwrap();
+    upload
+        .write_all(b"POST /v1/analyses?sample_rate=48000&preset=cwru6205&shaft_rpm=1797 HTTP/1.1\r\nHost: x\r\nContent-Type: application/octet-stream\r\nContent-Length: 2000000\r\n\r\n0123")
+        .unwrap();
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let t = Instant::now();
+    let (st, _, body) = get_json(&c, &signals).await;
+    assert_eq!(st, 200, "{body}");
+    // it could not start before the upload's permit was released, ~1.7 s from now
+    assert!(t.elapsed() >= Duration::from_millis(1200), "{:?}", t.elapsed());
+    let mut got = Vec::new();
+    closed_within(&mut upload, Duration::from_secs(5), &mut got);
+    assert!(String::from_utf8_lossy(&got).starts_with("HTTP/1.1 408"), "{}", String::from_utf8_lossy(&got));
+}
