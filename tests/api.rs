@@ -759,3 +759,34 @@ async fn analysis_options_are_checked_up_front_on_every_path() {
     let body: Value = r.json().await.unwrap();
     assert_eq!(body["errors"][0]["path"], "levels", "{body}");
 }
+
+#[tokio::test]
+async fn the_web_page_and_its_assets_are_served_from_the_binary() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let r = c.get(app.url("/")).send().await.unwrap();
+    assert_eq!(r.status(), 200);
+    assert!(r.headers()["content-type"].to_str().unwrap().starts_with("text/html"));
+    // the page may load only its own assets
+    assert!(r.headers()["content-security-policy"]
+        .to_str()
+        .unwrap()
+        .contains("default-src 'self'"));
+    let html = r.text().await.unwrap();
+    for asset in ["/assets/app.js", "/assets/style.css"] {
+        assert!(html.contains(asset), "{asset} not linked");
+    }
+    for (asset, ct) in [
+        ("/assets/app.js", "text/javascript"),
+        ("/assets/plot.js", "text/javascript"),
+        ("/assets/style.css", "text/css"),
+    ] {
+        let r = c.get(app.url(asset)).send().await.unwrap();
+        assert_eq!(r.status(), 200, "{asset}");
+        assert!(r.headers()["content-type"].to_str().unwrap().starts_with(ct));
+        assert!(!r.text().await.unwrap().is_empty());
+    }
+    let (st, h, p) = get_json(&c, &app.url("/assets/nope.js")).await;
+    assert_problem(st, &h, &p, 404);
+}

@@ -27,6 +27,7 @@ mod studies;
 mod study_views;
 mod submission;
 mod views;
+mod web;
 
 pub use router::router;
 pub use state::AppState;

@@ -25,6 +25,10 @@ pub fn router(state: AppState) -> Router {
         };
         app = app.route(route.path, handler);
     }
+    // the lab's page (not part of the API document)
+    let app = app
+        .route("/", axum::routing::get(super::web::index))
+        .route("/assets/{name}", axum::routing::get(super::web::asset));
     let mut app = app
         .fallback(ops::no_route)
         .layer(DefaultBodyLimit::max(cfg.max_body_bytes))
