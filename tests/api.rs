@@ -767,7 +767,10 @@ async fn the_web_page_and_its_assets_are_served_from_the_binary() {
     let c = client();
     let r = c.get(app.url("/")).send().await.unwrap();
     assert_eq!(r.status(), 200);
-    assert!(r.headers()["content-type"].to_str().unwrap().starts_with("text/html"));
+    assert!(r.headers()["content-type"]
+        .to_str()
+        .unwrap()
+        .starts_with("text/html"));
     // the page may load only its own assets
     assert!(r.headers()["content-security-policy"]
         .to_str()
@@ -784,7 +787,10 @@ async fn the_web_page_and_its_assets_are_served_from_the_binary() {
     ] {
         let r = c.get(app.url(asset)).send().await.unwrap();
         assert_eq!(r.status(), 200, "{asset}");
-        assert!(r.headers()["content-type"].to_str().unwrap().starts_with(ct));
+        assert!(r.headers()["content-type"]
+            .to_str()
+            .unwrap()
+            .starts_with(ct));
         assert!(!r.text().await.unwrap().is_empty());
     }
     let (st, h, p) = get_json(&c, &app.url("/assets/nope.js")).await;

@@ -132,15 +132,14 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
         "{p}"
     );
     // an adaptive scene with a tiny max_step names that field instead
-    let body = json!({"preset": "h7005c", "overrides": {"solver": {"duration": 10, "max_step": 1e-10}}});
+    let body =
+        json!({"preset": "h7005c", "overrides": {"solver": {"duration": 10, "max_step": 1e-10}}});
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_eq!(st, 422, "{p}");
     assert_eq!(p["errors"][1]["path"], "scene.solver.max_step", "{p}");
     // the same scene as a study point is refused with the point's path
-    let study = json!({"name": "budget",
-                       "base": {"preset": "h7005c", "overrides": {"solver": {"max_step": 1e-10, "duration": 10}}},
-                       "design": {"type": "one_at_a_time", "factors": [
-                           {"name": "axial_load", "pointer": "/operating/axial_load", "values": [300.0, 400.0]}]}});
+    let mut study = axial_load_study(10.0, &[300.0, 400.0]);
+    study["base"]["overrides"]["solver"]["max_step"] = json!(1e-10);
     let (st, _, p) = post_json(&c, &app.url("/v1/studies"), &study).await;
     assert_eq!(st, 422, "{p}");
     assert!(
@@ -156,9 +155,24 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
         "outputs": {"cage_speed": true, "inner_ring_displacement": true, "contact_loads_ball": 0}}});
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_eq!(st, 422, "{p}");
-    let paths: Vec<&str> = p["errors"].as_array().unwrap().iter().map(|e| e["path"].as_str().unwrap()).collect();
-    assert_eq!(paths, ["scene.solver.duration", "scene.solver.sample_rate"], "{p}");
-    assert!(p["errors"][1]["message"].as_str().unwrap().contains("--max-job-bytes"), "{p}");
+    let paths: Vec<&str> = p["errors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["path"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        paths,
+        ["scene.solver.duration", "scene.solver.sample_rate"],
+        "{p}"
+    );
+    assert!(
+        p["errors"][1]["message"]
+            .as_str()
+            .unwrap()
+            .contains("--max-job-bytes"),
+        "{p}"
+    );
     // a normal scene is within the default budget
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &short_scene(0.5)).await;
     assert_eq!(st, 202, "{p}");
@@ -175,7 +189,10 @@ async fn a_job_over_the_wall_clock_limit_fails_saying_so() {
     assert_eq!(job["state"], "failed", "{job}");
     assert_eq!(job["error"]["kind"], "time_limit", "{job}");
     let msg = job["error"]["message"].as_str().unwrap();
-    assert!(msg.contains("0.5 s") && msg.contains("--job-time-limit"), "{msg}");
+    assert!(
+        msg.contains("0.5 s") && msg.contains("--job-time-limit"),
+        "{msg}"
+    );
     // stopped on the way, not run to the end
     assert!(job["progress"].as_f64().unwrap() < 1.0, "{job}");
 }
@@ -195,7 +212,12 @@ fn closed_within(s: &mut TcpStream, timeout: Duration, got: &mut Vec<u8>) -> boo
         match s.read(&mut buf) {
             Ok(0) => return true,
             Ok(n) => got.extend_from_slice(&buf[..n]),
-            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock || e.kind() == std::io::ErrorKind::TimedOut => return false,
+            Err(e)
+                if e.kind() == std::io::ErrorKind::WouldBlock
+                    || e.kind() == std::io::ErrorKind::TimedOut =>
+            {
+                return false
+            }
             Err(_) => return true, // reset
         }
     }
@@ -218,22 +240,33 @@ async fn idle_and_half_sent_connections_are_closed_and_long_polls_are_not() {
     let (_dir, db) = temp_db();
     let app = TestApp::spawn(
         &db,
-        &["--workers", "0", "--header-timeout", "1", "--request-timeout", "1"],
+        &[
+            "--workers",
+            "0",
+            "--header-timeout",
+            "1",
+            "--request-timeout",
+            "1",
+        ],
     );
     let addr = app.base.trim_start_matches("http://").to_string();
     let c = client();
 
     // silent sockets, half a header, and a keep-alive connection idle after one request
-    let mut silent: Vec<TcpStream> = (0..100).map(|_| TcpStream::connect(&addr).unwrap()).collect();
+    let mut silent: Vec<TcpStream> = (0..100)
+        .map(|_| TcpStream::connect(&addr).unwrap())
+        .collect();
     let mut half: Vec<TcpStream> = (0..20)
         .map(|_| {
             let mut s = TcpStream::connect(&addr).unwrap();
-            s.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\nX-Slow: ").unwrap();
+            s.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\nX-Slow: ")
+                .unwrap();
             s
         })
         .collect();
     let mut kept = TcpStream::connect(&addr).unwrap();
-    kept.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    kept.write_all(b"GET /healthz HTTP/1.1\r\nHost: x\r\n\r\n")
+        .unwrap();
     // a body promised and never sent: the request timeout answers it
     let mut slow_body = TcpStream::connect(&addr).unwrap();
     slow_body
@@ -260,22 +293,37 @@ async fn idle_and_half_sent_connections_are_closed_and_long_polls_are_not() {
     // 3 s more of grace covers a loaded machine
     let grace = Duration::from_secs(3);
     for (i, s) in silent.iter_mut().enumerate() {
-        assert!(closed_within(s, grace, &mut Vec::new()), "silent socket {i} still open");
+        assert!(
+            closed_within(s, grace, &mut Vec::new()),
+            "silent socket {i} still open"
+        );
     }
     for (i, s) in half.iter_mut().enumerate() {
-        assert!(closed_within(s, grace, &mut Vec::new()), "half-header socket {i} still open");
+        assert!(
+            closed_within(s, grace, &mut Vec::new()),
+            "half-header socket {i} still open"
+        );
     }
     let mut got = Vec::new();
-    assert!(closed_within(&mut kept, grace, &mut got), "idle keep-alive connection still open");
+    assert!(
+        closed_within(&mut kept, grace, &mut got),
+        "idle keep-alive connection still open"
+    );
     assert!(String::from_utf8_lossy(&got).starts_with("HTTP/1.1 200"));
     let mut got = Vec::new();
-    assert!(closed_within(&mut slow_body, grace, &mut got), "slow body still open");
+    assert!(
+        closed_within(&mut slow_body, grace, &mut got),
+        "slow body still open"
+    );
     let got = String::from_utf8_lossy(&got);
     assert!(got.starts_with("HTTP/1.1 408"), "{got}");
     assert!(got.contains("application/problem+json"), "{got}");
 
     let text = get_text(&c, &app.url("/metrics")).await;
-    assert!(metric(&text, "bearing_sim_connections_open") <= 2.0, "{text}");
+    assert!(
+        metric(&text, "bearing_sim_connections_open") <= 2.0,
+        "{text}"
+    );
 }
 
 #[tokio::test]
@@ -283,17 +331,29 @@ async fn connections_over_the_bound_get_a_503_and_the_rest_keep_working() {
     let (_dir, db) = temp_db();
     let app = TestApp::spawn(
         &db,
-        &["--workers", "0", "--max-connections", "20", "--header-timeout", "1"],
+        &[
+            "--workers",
+            "0",
+            "--max-connections",
+            "20",
+            "--header-timeout",
+            "1",
+        ],
     );
     let addr = app.base.trim_start_matches("http://").to_string();
-    let hold: Vec<TcpStream> = (0..20).map(|_| TcpStream::connect(&addr).unwrap()).collect();
+    let hold: Vec<TcpStream> = (0..20)
+        .map(|_| TcpStream::connect(&addr).unwrap())
+        .collect();
     std::thread::sleep(Duration::from_millis(200));
     let mut over = TcpStream::connect(&addr).unwrap();
     let mut got = Vec::new();
     assert!(closed_within(&mut over, Duration::from_secs(5), &mut got));
     let got = String::from_utf8_lossy(&got);
     assert!(got.starts_with("HTTP/1.1 503"), "{got}");
-    assert!(got.contains("application/problem+json") && got.contains("--max-connections"), "{got}");
+    assert!(
+        got.contains("application/problem+json") && got.contains("--max-connections"),
+        "{got}"
+    );
     // once the header timeout has closed the idle ones, the service answers again
     let deadline = Instant::now() + Duration::from_secs(10);
     while healthz_status(&addr) != Some(200) {
@@ -302,7 +362,10 @@ async fn connections_over_the_bound_get_a_503_and_the_rest_keep_working() {
     }
     drop(hold);
     let text = get_text(&client(), &app.url("/metrics")).await;
-    assert!(metric(&text, "bearing_sim_connections_refused_total") >= 1.0, "{text}");
+    assert!(
+        metric(&text, "bearing_sim_connections_refused_total") >= 1.0,
+        "{text}"
+    );
 }
 
 #[test]
@@ -338,7 +401,10 @@ fn idle_sockets_cannot_exhaust_a_small_descriptor_limit() {
     // the connections past the bound were answered 503 at once, not left hanging
     std::thread::sleep(Duration::from_millis(300));
     let status = healthz_status(&base);
-    assert!(matches!(status, Some(503) | Some(200)), "healthz during the flood: {status:?}");
+    assert!(
+        matches!(status, Some(503) | Some(200)),
+        "healthz during the flood: {status:?}"
+    );
     // after the header timeout every idle socket is closed and the service answers
     let grace = Duration::from_secs(6);
     let still_open = idle
@@ -362,15 +428,20 @@ async fn errors_from_the_http_layer_are_problem_json() {
     // the 1 MB header
     let mut s = TcpStream::connect(&addr).unwrap();
     let big = "a".repeat(1 << 20);
-    let _ = s.write_all(format!("GET /healthz HTTP/1.1\r\nHost: x\r\nX-Big: {big}\r\n\r\n").as_bytes());
+    let _ =
+        s.write_all(format!("GET /healthz HTTP/1.1\r\nHost: x\r\nX-Big: {big}\r\n\r\n").as_bytes());
     let mut got = Vec::new();
     closed_within(&mut s, Duration::from_secs(10), &mut got);
     let got = String::from_utf8_lossy(&got);
     assert!(got.starts_with("HTTP/1.1 431"), "{got}");
-    assert!(got.contains("application/problem+json") && got.contains("\"status\":431"), "{got}");
+    assert!(
+        got.contains("application/problem+json") && got.contains("\"status\":431"),
+        "{got}"
+    );
     // a malformed request line
     let mut s = TcpStream::connect(&addr).unwrap();
-    s.write_all(b"GET /healthz HTTP/1.1\r\nHost x\r\n\r\n").unwrap();
+    s.write_all(b"GET /healthz HTTP/1.1\r\nHost x\r\n\r\n")
+        .unwrap();
     let mut got = Vec::new();
     closed_within(&mut s, Duration::from_secs(10), &mut got);
     let got = String::from_utf8_lossy(&got);
@@ -412,10 +483,20 @@ async fn with_tokens_each_client_sees_and_changes_only_its_own_jobs() {
     }
     // health, metrics and the API document stay open
     for path in ["/healthz", "/metrics", "/openapi.yaml"] {
-        assert_eq!(c.get(app.url(path)).send().await.unwrap().status(), 200, "{path}");
+        assert_eq!(
+            c.get(app.url(path)).send().await.unwrap().status(),
+            200,
+            "{path}"
+        );
     }
 
-    let r = c.post(&sims).bearer_auth(a).json(&short_scene(0.02)).send().await.unwrap();
+    let r = c
+        .post(&sims)
+        .bearer_auth(a)
+        .json(&short_scene(0.02))
+        .send()
+        .await
+        .unwrap();
     let (st, _, job) = decode(r).await;
     assert_eq!(st, 202, "{job}");
     let id = job["id"].as_str().unwrap().to_string();
@@ -426,14 +507,24 @@ async fn with_tokens_each_client_sees_and_changes_only_its_own_jobs() {
     assert_eq!(r.status(), 404);
     let (_, _, page) = decode(c.get(&sims).bearer_auth(b).send().await.unwrap()).await;
     assert_eq!(page["items"].as_array().unwrap().len(), 0, "{page}");
-    let r = c.post(format!("{one}/cancel")).bearer_auth(b).send().await.unwrap();
+    let r = c
+        .post(format!("{one}/cancel"))
+        .bearer_auth(b)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 404);
     let r = c.delete(&one).bearer_auth(b).send().await.unwrap();
     assert_eq!(r.status(), 404);
     // lab-a can
     let (_, _, page) = decode(c.get(&sims).bearer_auth(a).send().await.unwrap()).await;
     assert_eq!(page["items"][0]["id"], id.as_str(), "{page}");
-    let r = c.post(format!("{one}/cancel")).bearer_auth(a).send().await.unwrap();
+    let r = c
+        .post(format!("{one}/cancel"))
+        .bearer_auth(a)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 202);
 
     // the same Idempotency-Key from two tenants names two different requests
@@ -454,19 +545,41 @@ async fn with_tokens_each_client_sees_and_changes_only_its_own_jobs() {
     assert_eq!(ja2["id"], ja["id"]);
 
     // studies too
-    let study = json!({"name": "s", "base": {"preset": "h7005c", "fault_case": "outer", "overrides": {"solver": {"duration": 0.02}}},
-                       "design": {"type": "one_at_a_time", "factors": [
-                           {"name": "axial_load", "pointer": "/operating/axial_load", "values": [300.0]}]}});
-    let r = c.post(app.url("/v1/studies")).bearer_auth(a).json(&study).send().await.unwrap();
+    let study = axial_load_study(0.02, &[300.0]);
+    let r = c
+        .post(app.url("/v1/studies"))
+        .bearer_auth(a)
+        .json(&study)
+        .send()
+        .await
+        .unwrap();
     let (st, _, s) = decode(r).await;
     assert_eq!(st, 202, "{s}");
     let sid = s["id"].as_str().unwrap();
-    let r = c.get(app.url(&format!("/v1/studies/{sid}"))).bearer_auth(b).send().await.unwrap();
+    let r = c
+        .get(app.url(&format!("/v1/studies/{sid}")))
+        .bearer_auth(b)
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 404);
-    let (_, _, page) = decode(c.get(app.url("/v1/studies")).bearer_auth(b).send().await.unwrap()).await;
+    let (_, _, page) = decode(
+        c.get(app.url("/v1/studies"))
+            .bearer_auth(b)
+            .send()
+            .await
+            .unwrap(),
+    )
+    .await;
     assert_eq!(page["items"].as_array().unwrap().len(), 0, "{page}");
     // b's identical study does not share a's job
-    let r = c.post(app.url("/v1/studies")).bearer_auth(b).json(&study).send().await.unwrap();
+    let r = c
+        .post(app.url("/v1/studies"))
+        .bearer_auth(b)
+        .json(&study)
+        .send()
+        .await
+        .unwrap();
     let (_, _, sb) = decode(r).await;
     assert_ne!(sb["points"][0]["job_id"], s["points"][0]["job_id"], "{sb}");
 }
@@ -478,7 +591,13 @@ async fn open_reads_let_a_dashboard_read_without_a_token_but_not_write() {
     let app = TestApp::spawn(&db, &["--workers", "0", "--tokens", &list, "--open-reads"]);
     let c = client();
     let sims = app.url("/v1/simulations");
-    let r = c.post(&sims).bearer_auth(a).json(&short_scene(0.02)).send().await.unwrap();
+    let r = c
+        .post(&sims)
+        .bearer_auth(a)
+        .json(&short_scene(0.02))
+        .send()
+        .await
+        .unwrap();
     let (_, _, job) = decode(r).await;
     let (st, _, page) = get_json(&c, &sims).await;
     assert_eq!(st, 200);
@@ -486,7 +605,11 @@ async fn open_reads_let_a_dashboard_read_without_a_token_but_not_write() {
     let (st, h, p) = post_json(&c, &sims, &short_scene(0.02)).await;
     assert_problem(st, &h, &p, 401);
     let id = job["id"].as_str().unwrap();
-    let r = c.delete(app.url(&format!("/v1/simulations/{id}"))).send().await.unwrap();
+    let r = c
+        .delete(app.url(&format!("/v1/simulations/{id}")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 401);
 }
 
@@ -494,7 +617,14 @@ async fn open_reads_let_a_dashboard_read_without_a_token_but_not_write() {
 fn binding_beyond_loopback_without_tokens_warns_loudly() {
     let (_dir, db) = temp_db();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-        .args(["serve", "--bind", "0.0.0.0:0", "--workers", "0", "--database-url"])
+        .args([
+            "serve",
+            "--bind",
+            "0.0.0.0:0",
+            "--workers",
+            "0",
+            "--database-url",
+        ])
         .arg(format!("sqlite://{}", db.display()))
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::piped())
@@ -505,7 +635,10 @@ fn binding_beyond_loopback_without_tokens_warns_loudly() {
     let first = lines.next().unwrap().unwrap();
     let _ = child.kill();
     let _ = child.wait();
-    assert!(first.starts_with("WARNING") && first.contains("WITHOUT API TOKENS"), "{first}");
+    assert!(
+        first.starts_with("WARNING") && first.contains("WITHOUT API TOKENS"),
+        "{first}"
+    );
 }
 
 #[test]
@@ -514,7 +647,14 @@ fn a_bad_tokens_file_stops_the_service_before_it_serves() {
     let file = dir.path().join("tokens");
     std::fs::write(&file, "lab-a:not-a-hash\n").unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-        .args(["serve", "--bind", "127.0.0.1:0", "--workers", "0", "--database-url"])
+        .args([
+            "serve",
+            "--bind",
+            "127.0.0.1:0",
+            "--workers",
+            "0",
+            "--database-url",
+        ])
         .arg(format!("sqlite://{}", db.display()))
         .arg("--tokens-file")
         .arg(&file)
@@ -522,7 +662,10 @@ fn a_bad_tokens_file_stops_the_service_before_it_serves() {
         .unwrap();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("line 1") && err.contains("64 hex digits"), "{err}");
+    assert!(
+        err.contains("line 1") && err.contains("64 hex digits"),
+        "{err}"
+    );
 }
 
 #[tokio::test]
@@ -533,9 +676,7 @@ async fn finished_work_expires_after_the_retention_time() {
     let id = submit(&c, &app, &short_scene(0.02)).await;
     let job = wait_finished(&c, &app, &id, Duration::from_secs(60)).await;
     assert_eq!(job["state"], "succeeded", "{job}");
-    let study = json!({"name": "s", "base": {"preset": "h7005c", "fault_case": "outer", "overrides": {"solver": {"duration": 0.02}}},
-                       "design": {"type": "one_at_a_time", "factors": [
-                           {"name": "axial_load", "pointer": "/operating/axial_load", "values": [300.0]}]}});
+    let study = axial_load_study(0.02, &[300.0]);
     let (st, _, s) = post_json(&c, &app.url("/v1/studies"), &study).await;
     assert_eq!(st, 202, "{s}");
     let study_path = format!("/v1/studies/{}", s["id"].as_str().unwrap());
@@ -547,11 +688,18 @@ async fn finished_work_expires_after_the_retention_time() {
         if sj == 404 && ss == 404 {
             break;
         }
-        assert!(Instant::now() < deadline, "still there: job {sj}, study {ss}\n{}", app.log());
+        assert!(
+            Instant::now() < deadline,
+            "still there: job {sj}, study {ss}\n{}",
+            app.log()
+        );
         tokio::time::sleep(Duration::from_millis(100)).await;
     }
     let text = get_text(&c, &app.url("/metrics")).await;
-    assert!(metric(&text, "bearing_sim_jobs_expired_total") >= 2.0, "{text}");
+    assert!(
+        metric(&text, "bearing_sim_jobs_expired_total") >= 2.0,
+        "{text}"
+    );
     assert_eq!(metric(&text, "bearing_sim_store_bytes"), 0.0, "{text}");
 }
 
@@ -563,12 +711,22 @@ async fn a_full_store_refuses_new_work_with_507() {
     let id = submit(&c, &app, &short_scene(0.02)).await;
     wait_finished(&c, &app, &id, Duration::from_secs(60)).await;
     let text = get_text(&c, &app.url("/metrics")).await;
-    assert!(metric(&text, "bearing_sim_store_bytes") > 20_000.0, "{text}");
+    assert!(
+        metric(&text, "bearing_sim_store_bytes") > 20_000.0,
+        "{text}"
+    );
     let (st, h, p) = post_json(&c, &app.url("/v1/simulations"), &short_scene(0.02)).await;
     assert_problem(st, &h, &p, 507);
-    assert!(p["detail"].as_str().unwrap().contains("--max-store-bytes"), "{p}");
+    assert!(
+        p["detail"].as_str().unwrap().contains("--max-store-bytes"),
+        "{p}"
+    );
     // deleting frees the room
-    let r = c.delete(app.url(&format!("/v1/simulations/{id}"))).send().await.unwrap();
+    let r = c
+        .delete(app.url(&format!("/v1/simulations/{id}")))
+        .send()
+        .await
+        .unwrap();
     assert_eq!(r.status(), 204);
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &short_scene(0.02)).await;
     assert_eq!(st, 202, "{p}");
@@ -611,9 +769,13 @@ async fn the_largest_accepted_analysis_stays_under_its_memory_bound() {
     let (st, _, job) = decode(r).await;
     assert_eq!(st, 202, "{job}");
     let id = job["id"].as_str().unwrap();
-    let job = wait_for(&c, &server, &format!("/v1/analyses/{id}"), Duration::from_secs(300), |j| {
-        matches!(j["state"].as_str(), Some("succeeded" | "failed"))
-    })
+    let job = wait_for(
+        &c,
+        &server,
+        &format!("/v1/analyses/{id}"),
+        Duration::from_secs(300),
+        |j| matches!(j["state"].as_str(), Some("succeeded" | "failed")),
+    )
     .await;
     assert_eq!(job["state"], "succeeded", "{job}");
     let peak = peak_rss(server.pid());
@@ -642,7 +804,14 @@ async fn large_transfers_wait_their_turn_and_max_points_is_bounded() {
     let (_dir, db) = temp_db();
     let app = TestApp::spawn(
         &db,
-        &["--workers", "1", "--max-large-transfers", "1", "--request-timeout", "2"],
+        &[
+            "--workers",
+            "1",
+            "--max-large-transfers",
+            "1",
+            "--request-timeout",
+            "2",
+        ],
     );
     let c = client();
     let id = submit(&c, &app, &short_scene(0.02)).await;
@@ -667,8 +836,16 @@ async fn large_transfers_wait_their_turn_and_max_points_is_bounded() {
     let (st, _, body) = get_json(&c, &signals).await;
     assert_eq!(st, 200, "{body}");
     // it could not start before the upload's permit was released, ~1.7 s from now
-    assert!(t.elapsed() >= Duration::from_millis(1200), "{:?}", t.elapsed());
+    assert!(
+        t.elapsed() >= Duration::from_millis(1200),
+        "{:?}",
+        t.elapsed()
+    );
     let mut got = Vec::new();
     closed_within(&mut upload, Duration::from_secs(5), &mut got);
-    assert!(String::from_utf8_lossy(&got).starts_with("HTTP/1.1 408"), "{}", String::from_utf8_lossy(&got));
+    assert!(
+        String::from_utf8_lossy(&got).starts_with("HTTP/1.1 408"),
+        "{}",
+        String::from_utf8_lossy(&got)
+    );
 }

@@ -10,13 +10,7 @@ use std::time::Duration;
 /// Outer fault at three axial loads, two of them equal (the preset's Table-1 speed ramp;
 /// 30 ms simulated gives a 22.5 ms steady window, 15 ms of analysis).
 fn small_study(duration: f64) -> Value {
-    json!({
-        "name": "axial loads",
-        "base": {"preset": "h7005c", "fault_case": "outer", "overrides": {"solver": {"duration": duration}}},
-        "design": {"type": "one_at_a_time", "factors": [
-            {"name": "axial_load", "pointer": "/operating/axial_load", "values": [300.0, 400.0, 400.0]}
-        ]}
-    })
+    axial_load_study(duration, &[300.0, 400.0, 400.0])
 }
 
 async fn wait_study(

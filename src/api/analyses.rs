@@ -2,6 +2,7 @@
 //! or as a raw little-endian f32 body with query parameters. Small signals are answered
 //! directly (200); large ones, or `mode=async`, are queued as jobs (202).
 
+use super::caller::Caller;
 use super::direct::run_direct;
 use super::extract::{as_object, content_type, from_value, parse_value, QueryParams};
 use super::job_resource;
@@ -15,7 +16,6 @@ use super::openapi::responses::{
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
 use super::results::{self, AnalysisResult, SpectrumView};
-use super::caller::Caller;
 use super::state::AppState;
 use super::submission::enqueue;
 use super::views::{JobPage, JobView};
@@ -137,7 +137,8 @@ pub struct DirectSpectra {
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
     body: Bytes,
@@ -161,7 +162,11 @@ pub async fn submit(
         )));
     };
 
-    let over = over_job_bytes(samples.len(), input.options.levels, state.config.max_job_bytes);
+    let over = over_job_bytes(
+        samples.len(),
+        input.options.levels,
+        state.config.max_job_bytes,
+    );
     if !over.is_empty() {
         return Err(Problem::validation(over));
     }
@@ -484,7 +489,8 @@ fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiRes
     )
 )]
 pub async fn get(
-    State(s): State<AppState>, caller: Caller,
+    State(s): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
@@ -504,7 +510,11 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
+pub async fn list(
+    State(s): State<AppState>,
+    caller: Caller,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
     job_resource::list(s, &caller, KIND, q).await
 }
 
@@ -524,7 +534,11 @@ pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQue
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn cancel(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     job_resource::cancel(s, &caller, KIND, id).await
 }
 
@@ -541,7 +555,11 @@ pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<St
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn delete(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     job_resource::delete(s, &caller, KIND, id).await
 }
 
@@ -558,7 +576,11 @@ pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<St
         (status = 409, response = Conflict),
     )
 )]
-pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn result(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     results::result(s, &caller, KIND, id).await
 }
 
@@ -578,7 +600,8 @@ pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<St
     )
 )]
 pub async fn spectra(
-    State(s): State<AppState>, caller: Caller,
+    State(s): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {

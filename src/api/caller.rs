@@ -42,13 +42,22 @@ impl<S: Send + Sync> FromRequestParts<S> for Caller {
 
     async fn from_request_parts(parts: &mut Parts, _: &S) -> Result<Self, Self::Rejection> {
         // set by `authenticate` on every /v1 route; absent only without tokens
-        Ok(parts.extensions.get::<Caller>().cloned().unwrap_or_default())
+        Ok(parts
+            .extensions
+            .get::<Caller>()
+            .cloned()
+            .unwrap_or_default())
     }
 }
 
 fn unauthorized(detail: &str) -> Response {
-    let mut res = Problem::new(StatusCode::UNAUTHORIZED, Some("unauthorized"), "Unauthorized", detail)
-        .into_response();
+    let mut res = Problem::new(
+        StatusCode::UNAUTHORIZED,
+        Some("unauthorized"),
+        "Unauthorized",
+        detail,
+    )
+    .into_response();
     res.headers_mut().insert(
         header::WWW_AUTHENTICATE,
         HeaderValue::from_static("Bearer realm=\"bearing-sim\""),
@@ -81,9 +90,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
                 None => return unauthorized("the token is not configured on this service"),
             }
         }
-        None if state.config.open_reads
-            && matches!(*req.method(), Method::GET | Method::HEAD) =>
-        {
+        None if state.config.open_reads && matches!(*req.method(), Method::GET | Method::HEAD) => {
             Caller {
                 tenant: String::new(),
                 reads_all: true,

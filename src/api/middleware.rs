@@ -92,8 +92,9 @@ pub async fn refuse_declared_oversize(
     // at once stay bounded by --max-large-transfers, not by the connection count.
     let chunked = declared.is_none() && req.headers().contains_key(header::TRANSFER_ENCODING);
     if declared.is_some_and(|n| n > LARGE_BODY) || chunked {
-        let Ok(_permit) = state.large.clone().acquire_owned().await else {
-            return Problem::unavailable("shutting down").into_response();
+        let _permit = match state.large_transfer().await {
+            Ok(p) => p,
+            Err(problem) => return problem.into_response(),
         };
         return next.run(req).await;
     }

@@ -119,9 +119,7 @@ impl Problem {
             format!("{}: {}", errors[0].path, errors[0].message)
         } else if total > MAX_LISTED_PROBLEMS {
             errors.truncate(MAX_LISTED_PROBLEMS);
-            format!(
-                "{total} problems in the request; errors lists the first {MAX_LISTED_PROBLEMS}"
-            )
+            format!("{total} problems in the request; errors lists the first {MAX_LISTED_PROBLEMS}")
         } else {
             format!("{total} problems in the request; see errors")
         };
@@ -262,6 +260,10 @@ mod tests {
             .collect();
         let p = Problem::validation(many);
         assert_eq!(p.errors.as_ref().unwrap().len(), MAX_LISTED_PROBLEMS);
-        assert!(p.detail.contains("100000 problems") && p.detail.contains("first 100"), "{}", p.detail);
+        assert!(
+            p.detail.contains("100000 problems") && p.detail.contains("first 100"),
+            "{}",
+            p.detail
+        );
     }
 }

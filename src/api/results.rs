@@ -1,8 +1,8 @@
 //! Results of succeeded jobs: the stored record, and envelope spectra with the
 //! theoretical markers and the identified peaks. Records are read back as types.
 
-use super::extract::QueryParams;
 use super::caller::Caller;
+use super::extract::QueryParams;
 use super::job_resource::succeeded;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
@@ -254,12 +254,7 @@ pub async fn spectra(
     };
     let which = query.choice.kind();
     // a spectrum is up to n/2 bins, held as f32 and then as JSON: a few at a time
-    let _permit = state
-        .large
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|_| Problem::unavailable("shutting down"))?;
+    let _permit = state.large_transfer().await?;
     let Some(a) = state
         .store
         .get_artifact(&id, &spectrum_artifact_name(level))

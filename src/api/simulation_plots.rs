@@ -1,6 +1,7 @@
 //! `GET /v1/simulations/{id}/plots/{name}`: a simulation's time signal, envelope spectrum
 //! with characteristic-frequency markers, and per-level kurtosis, as SVG.
 
+use super::caller::Caller;
 use super::extract::QueryParams;
 use super::job_resource::succeeded;
 use super::openapi::params::{JobId, PlotName, SimulationPlotQuery};
@@ -8,7 +9,6 @@ use super::openapi::responses::{BadRequest, Conflict, NotFound};
 use super::problem::{ApiResult, Problem};
 use super::results::{record, stored_analysis};
 use super::simulations::{load_channel, sample_window, StoredChannel};
-use super::caller::Caller;
 use super::state::AppState;
 use super::studies::svg_response;
 use crate::jobs::artifacts::spectrum_artifact_name;
@@ -46,7 +46,8 @@ const DEFAULT_WINDOW: f64 = 0.1;
     )
 )]
 pub async fn plot(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     Path((id, name)): Path<(String, String)>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {

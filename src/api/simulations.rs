@@ -1,5 +1,6 @@
 //! `/v1/simulations`: submit a scene, follow the job, read its result, signals and spectra.
 
+use super::caller::Caller;
 use super::extract::{as_object, parse_value, require_json, QueryParams};
 use super::job_resource::{self, succeeded};
 use super::openapi::params::{
@@ -12,7 +13,6 @@ use super::problem::{ApiResult, Problem};
 use super::results::{self, SimulationResult, SpectrumView};
 use super::scene_input::resolve_scene;
 use super::scene_input::SimulationRequest;
-use super::caller::Caller;
 use super::state::AppState;
 use super::submission::enqueue;
 use super::views::{JobPage, JobView};
@@ -157,7 +157,8 @@ pub fn sample_window(
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     headers: HeaderMap,
     body: Bytes,
 ) -> ApiResult<Response> {
@@ -177,7 +178,16 @@ pub async fn submit(
     .map_err(|e| Problem::internal(format!("start check failed: {e}")))?
     .map_err(|e| Problem::scene_invalid("scene", &e))?;
     let input = serde_json::to_value(&scene).map_err(|e| Problem::internal(e.to_string()))?;
-    enqueue(&state, &caller, &headers, KIND, scene.name.clone(), input, None).await
+    enqueue(
+        &state,
+        &caller,
+        &headers,
+        KIND,
+        scene.name.clone(),
+        input,
+        None,
+    )
+    .await
 }
 
 /// One sampled channel, windowed and decimated
@@ -195,7 +205,8 @@ pub async fn submit(
     )
 )]
 pub async fn signals(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {
@@ -218,12 +229,7 @@ pub async fn signals(
     }
     succeeded(&state, &caller, KIND, &id).await?;
     // a channel is up to 20 MB in memory while it is decimated: a few at a time
-    let _permit = state
-        .large
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|_| Problem::unavailable("shutting down"))?;
+    let _permit = state.large_transfer().await?;
     let StoredChannel {
         data,
         sample_rate: fs,
@@ -272,7 +278,8 @@ pub async fn signals(
     )
 )]
 pub async fn get(
-    State(s): State<AppState>, caller: Caller,
+    State(s): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
@@ -292,7 +299,11 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
+pub async fn list(
+    State(s): State<AppState>,
+    caller: Caller,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
     job_resource::list(s, &caller, KIND, q).await
 }
 
@@ -312,7 +323,11 @@ pub async fn list(State(s): State<AppState>, caller: Caller, RawQuery(q): RawQue
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn cancel(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     job_resource::cancel(s, &caller, KIND, id).await
 }
 
@@ -329,7 +344,11 @@ pub async fn cancel(State(s): State<AppState>, caller: Caller, Path(id): Path<St
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn delete(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     job_resource::delete(s, &caller, KIND, id).await
 }
 
@@ -349,7 +368,11 @@ pub async fn delete(State(s): State<AppState>, caller: Caller, Path(id): Path<St
         (status = 409, response = Conflict),
     )
 )]
-pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn result(
+    State(s): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     results::result(s, &caller, KIND, id).await
 }
 
@@ -369,7 +392,8 @@ pub async fn result(State(s): State<AppState>, caller: Caller, Path(id): Path<St
     )
 )]
 pub async fn spectra(
-    State(s): State<AppState>, caller: Caller,
+    State(s): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
 ) -> ApiResult<Response> {

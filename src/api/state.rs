@@ -1,11 +1,12 @@
 //! What every handler shares.
 
+use super::problem::Problem;
 use crate::config::{Config, Tokens};
 use crate::metrics::Metrics;
 use crate::store::Store;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use tokio::sync::{Notify, Semaphore};
+use tokio::sync::{Notify, OwnedSemaphorePermit, Semaphore};
 
 #[derive(Clone)]
 pub struct AppState {
@@ -25,4 +26,16 @@ pub struct AppState {
     /// The OpenAPI document served at `/openapi.yaml` (`api::openapi::yaml()`; handed in so
     /// that the document, which lists that handler, and the handler do not import each other).
     pub openapi_yaml: &'static str,
+}
+
+impl AppState {
+    /// One of the `--max-large-transfers` permits, waited for; held while a large body or
+    /// answer is in memory.
+    pub async fn large_transfer(&self) -> Result<OwnedSemaphorePermit, Problem> {
+        self.large
+            .clone()
+            .acquire_owned()
+            .await
+            .map_err(|_| Problem::unavailable("shutting down"))
+    }
 }

@@ -1,5 +1,6 @@
 //! `/v1/studies`: parameter studies, each point a simulation job; their table and plots.
 
+use super::caller::Caller;
 use super::extract::{parse_value, require_json, QueryParams};
 use super::job_resource::{long_poll, paging};
 use super::openapi::params::{IfNoneMatch, PlotName, StudyId, StudyListQuery, WaitQuery};
@@ -7,7 +8,6 @@ use super::openapi::responses::{
     BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
-use super::caller::Caller;
 use super::state::AppState;
 use super::study_views::{design_of, rows, study_etag, study_location, view, StudyPage, StudyView};
 use crate::jobs::artifacts::spectrum_artifact_name;
@@ -63,7 +63,8 @@ use axum::Json;
     )
 )]
 pub async fn submit(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     headers: HeaderMap,
     body: Bytes,
 ) -> ApiResult<Response> {
@@ -198,7 +199,8 @@ fn study_response(status: StatusCode, study: &Study) -> ApiResult<Response> {
     )
 )]
 pub async fn get(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
     RawQuery(q): RawQuery,
@@ -226,7 +228,11 @@ pub async fn get(
         (status = 400, response = BadRequest),
     )
 )]
-pub async fn list(State(state): State<AppState>, caller: Caller, RawQuery(q): RawQuery) -> ApiResult<Response> {
+pub async fn list(
+    State(state): State<AppState>,
+    caller: Caller,
+    RawQuery(q): RawQuery,
+) -> ApiResult<Response> {
     let q = QueryParams::parse(q.as_deref())?;
     let (limit, before) = paging(&q, 20, 100)?;
     let scope = caller.list_scope();
@@ -262,7 +268,11 @@ pub async fn list(State(state): State<AppState>, caller: Caller, RawQuery(q): Ra
         (status = 409, response = Conflict),
     )
 )]
-pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn cancel(
+    State(state): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     load_study(&state, &caller, &id).await?;
     let study = state.store.cancel_study(&id).await?;
     study_response(StatusCode::ACCEPTED, &study)
@@ -281,7 +291,11 @@ pub async fn cancel(State(state): State<AppState>, caller: Caller, Path(id): Pat
         (status = 409, response = Conflict),
     )
 )]
-pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Path<String>) -> ApiResult<Response> {
+pub async fn delete(
+    State(state): State<AppState>,
+    caller: Caller,
+    Path(id): Path<String>,
+) -> ApiResult<Response> {
     load_study(&state, &caller, &id).await?;
     state.store.delete_study(&id).await?;
     Ok(StatusCode::NO_CONTENT.into_response())
@@ -309,7 +323,8 @@ pub async fn delete(State(state): State<AppState>, caller: Caller, Path(id): Pat
     )
 )]
 pub async fn table(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     Path(id): Path<String>,
     headers: HeaderMap,
 ) -> ApiResult<Response> {
@@ -355,7 +370,8 @@ pub async fn table(
     )
 )]
 pub async fn plot(
-    State(state): State<AppState>, caller: Caller,
+    State(state): State<AppState>,
+    caller: Caller,
     Path((id, name)): Path<(String, String)>,
 ) -> ApiResult<Response> {
     let study = load_study(&state, &caller, &id).await?;

@@ -10,9 +10,21 @@ const INDEX: &str = include_str!("web/index.html");
 
 /// (name, content type, content)
 const ASSETS: &[(&str, &str, &str)] = &[
-    ("app.js", "text/javascript; charset=utf-8", include_str!("web/app.js")),
-    ("plot.js", "text/javascript; charset=utf-8", include_str!("web/plot.js")),
-    ("style.css", "text/css; charset=utf-8", include_str!("web/style.css")),
+    (
+        "app.js",
+        "text/javascript; charset=utf-8",
+        include_str!("web/app.js"),
+    ),
+    (
+        "plot.js",
+        "text/javascript; charset=utf-8",
+        include_str!("web/plot.js"),
+    ),
+    (
+        "style.css",
+        "text/css; charset=utf-8",
+        include_str!("web/style.css"),
+    ),
 ];
 
 fn page(content_type: &'static str, body: &'static str) -> Response {
@@ -40,6 +52,8 @@ pub async fn index() -> Response {
 pub async fn asset(Path(name): Path<String>) -> Response {
     match ASSETS.iter().find(|(n, _, _)| *n == name) {
         Some((_, ct, body)) => page(ct, body),
-        None => super::problem::Problem::not_found(format!("no asset named {name}")).into_response(),
+        None => {
+            super::problem::Problem::not_found(format!("no asset named {name}")).into_response()
+        }
     }
 }

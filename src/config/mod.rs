@@ -54,7 +54,12 @@ pub struct Config {
     pub tokens_file: Option<PathBuf>,
 
     /// API tokens as comma-separated `name:sha256hex` entries (added to --tokens-file).
-    #[arg(long, env = "BEARING_SIM_TOKENS", default_value = "", hide_env_values = true)]
+    #[arg(
+        long,
+        env = "BEARING_SIM_TOKENS",
+        default_value = "",
+        hide_env_values = true
+    )]
     pub tokens: String,
 
     /// With tokens: let GET requests without a token read every job and study (a read-only
@@ -113,7 +118,11 @@ pub struct Config {
     /// step at the fixed step, or at the smaller of `max_step` and the typical 5 us step,
     /// plus one per output sample); a scene over it is refused with 422. The default is
     /// about 8 min of solver time (the Table-1 scene is 4.5e5).
-    #[arg(long, env = "BEARING_SIM_MAX_SCENE_EVALUATIONS", default_value_t = 5.0e7)]
+    #[arg(
+        long,
+        env = "BEARING_SIM_MAX_SCENE_EVALUATIONS",
+        default_value_t = 5.0e7
+    )]
     pub max_scene_evaluations: f64,
 
     /// Wall-clock limit of one job's run, s: a job still running after it is stopped and
@@ -154,7 +163,11 @@ impl Config {
     pub fn load_tokens(&self) -> Result<Tokens, String> {
         let mut t = Tokens::parse(&self.tokens, "--tokens")?;
         // an empty path (BEARING_SIM_TOKENS_FILE= in a container) means no file
-        if let Some(path) = self.tokens_file.as_ref().filter(|p| !p.as_os_str().is_empty()) {
+        if let Some(path) = self
+            .tokens_file
+            .as_ref()
+            .filter(|p| !p.as_os_str().is_empty())
+        {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| format!("--tokens-file {}: {e}", path.display()))?;
             t.merge(Tokens::parse(&text, &path.display().to_string())?)?;

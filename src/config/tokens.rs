@@ -90,7 +90,11 @@ mod tests {
 
     #[test]
     fn a_token_is_known_by_its_hash_only() {
-        let line = format!("lab-a:{}  # the lab\nlab-b:{}", hash_token("s3cret-a"), hash_token("s3cret-b"));
+        let line = format!(
+            "lab-a:{}  # the lab\nlab-b:{}",
+            hash_token("s3cret-a"),
+            hash_token("s3cret-b")
+        );
         let t = Tokens::parse(&line, "tokens").unwrap();
         assert_eq!(t.name_of("s3cret-a"), Some("lab-a"));
         assert_eq!(t.name_of("s3cret-b"), Some("lab-b"));

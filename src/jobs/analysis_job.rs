@@ -10,9 +10,9 @@ use crate::store::FailureKind;
 use bearing_core::signal::analysis::{
     analyze_cancellable, AnalysisError, AnalysisOptions, AnalysisOutput,
 };
-use std::sync::atomic::AtomicBool;
 use bearing_core::signal::frequencies::KinematicGeometry;
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::AtomicBool;
 
 /// A resolved analysis request (what a queued analysis job stores besides its samples).
 #[derive(Debug, Clone, Serialize, Deserialize)]

@@ -22,7 +22,11 @@ pub async fn retention_loop(env: WorkerEnv, mut shutdown: watch::Receiver<bool>)
             Ok((0, 0)) => {}
             Ok((jobs, studies)) => {
                 env.metrics.expired(jobs);
-                tracing::info!(jobs, studies, "expired finished work past the retention time");
+                tracing::info!(
+                    jobs,
+                    studies,
+                    "expired finished work past the retention time"
+                );
             }
             Err(e) => tracing::warn!(error = %e, "retention sweep failed"),
         }

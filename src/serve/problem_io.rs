@@ -151,10 +151,16 @@ mod tests {
 
     #[test]
     fn hypers_own_error_heads_are_replaced() {
-        let r = replacement_for(b"HTTP/1.1 431 Request Header Fields Too Large\r\ncontent-length: 0\r\ndate: x\r\n\r\n").unwrap();
+        let r = replacement_for(
+            b"HTTP/1.1 431 Request Header Fields Too Large\r\ncontent-length: 0\r\ndate: x\r\n\r\n",
+        )
+        .unwrap();
         let r = String::from_utf8(r).unwrap();
         assert!(r.starts_with("HTTP/1.1 431 "), "{r}");
-        assert!(r.contains("application/problem+json") && r.contains("\"status\":431"), "{r}");
+        assert!(
+            r.contains("application/problem+json") && r.contains("\"status\":431"),
+            "{r}"
+        );
     }
 
     #[test]

@@ -537,10 +537,11 @@ impl Store for SqliteStore {
         )
         .fetch_one(&self.pool)
         .await?;
-        let artifacts: i64 =
-            sqlx::query_scalar("SELECT COALESCE(SUM(LENGTH(data) + LENGTH(meta)), 0) FROM artifacts")
-                .fetch_one(&self.pool)
-                .await?;
+        let artifacts: i64 = sqlx::query_scalar(
+            "SELECT COALESCE(SUM(LENGTH(data) + LENGTH(meta)), 0) FROM artifacts",
+        )
+        .fetch_one(&self.pool)
+        .await?;
         Ok(jobs + artifacts)
     }
 

@@ -131,6 +131,17 @@ pub fn steady_scene(duration: f64) -> Value {
            "overrides": {"operating": {"speed": {"ramp_time": 0.005}}, "solver": {"duration": duration}}})
 }
 
+/// A study of the outer-fault preset at `loads` axial loads (N), `duration` s each.
+pub fn axial_load_study(duration: f64, loads: &[f64]) -> Value {
+    json!({
+        "name": "axial loads",
+        "base": {"preset": "h7005c", "fault_case": "outer", "overrides": {"solver": {"duration": duration}}},
+        "design": {"type": "one_at_a_time", "factors": [
+            {"name": "axial_load", "pointer": "/operating/axial_load", "values": loads}
+        ]}
+    })
+}
+
 pub async fn post_json(
     c: &reqwest::Client,
     url: &str,

@@ -111,7 +111,9 @@ struct BearerTokens;
 
 impl utoipa::Modify for BearerTokens {
     fn modify(&self, doc: &mut utoipa::openapi::OpenApi) {
-        use utoipa::openapi::security::{HttpAuthScheme, HttpBuilder, SecurityRequirement, SecurityScheme};
+        use utoipa::openapi::security::{
+            HttpAuthScheme, HttpBuilder, SecurityRequirement, SecurityScheme,
+        };
         use utoipa::openapi::{Ref, RefOr};
         if let Some(c) = doc.components.as_mut() {
             c.add_security_scheme(
