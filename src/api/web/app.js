@@ -416,7 +416,7 @@ function spectrumPlot(kind, id, a) {
     if (r.status !== 200) { chart.replaceChildren(h("p", { class: "error" }, r.body.detail)); return; }
     const s = r.body;
     lineChart(chart, { x: s.amplitude.map((_, i) => i * s.df), y: s.amplitude, yFromZero: true, xLabel: "frequency (Hz)",
-      yLabel: "envelope amplitude (signal unit)",
+      yLabel: kind === "simulations" ? "envelope amplitude (m/s^2)" : "envelope amplitude (unit of the signal)",
       markers: s.markers.map((m) => ({ x: m.frequency, label: `${m.name.toUpperCase()}${m.harmonic > 1 ? "×" + m.harmonic : ""}`, cls: `marker-${m.name}` })) });
     chart.dataset.kind = s.kind;
     info.textContent = `${s.kind}${s.level ? " level " + s.level : ""}, bin width ${fmt(s.df)} Hz`;
