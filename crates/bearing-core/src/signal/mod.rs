@@ -8,6 +8,7 @@
 //! - [`spectrum`]: envelope spectrum (Hann window, single-sided amplitude scaling);
 //! - [`dtcwt`]: Kingsbury's dual-tree complex wavelet transform and per-level components;
 //! - [`kurtosis`]: Pearson kurtosis;
+//! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`io`]: reading signals from raw f32le, CSV or JSON.
 
@@ -18,6 +19,7 @@ pub mod analysis;
 pub mod frequencies;
 pub mod hilbert;
 pub mod identify;
+pub mod kurtogram;
 pub mod kurtosis;
 pub mod spectrum;
 
