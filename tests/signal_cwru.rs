@@ -100,3 +100,44 @@ fn inner_race_record_shows_shaft_sidebands_around_bpfi() {
         .collect();
     assert!(!sb.is_empty(), "{:?}", r.raw_bpfi_sidebands);
 }
+
+/// The kurtogram's band on the same two recordings: the fault line's peak is found there
+/// within the same 1 % (the band and the peak's prominence are printed for comparison with
+/// the best DTCWT level).
+#[test]
+fn the_kurtogram_band_shows_the_fault_line_too() {
+    for (id, name) in [
+        ("cwru_ir007_0hp_12k_de", "BPFI"),
+        ("cwru_or007c_0hp_12k_de", "BPFO"),
+    ] {
+        let m = manifest()[id].clone();
+        let x = common::read_f32le(&format!("tests/fixtures/cwru/{id}.f32le"));
+        let fs = m["fs_hz"].as_f64().unwrap();
+        let shaft = m["rpm"].as_f64().unwrap() / 60.0;
+        let g = kinematic_preset("cwru6205").unwrap();
+        let opts = AnalysisOptions {
+            kurtogram_levels: Some(6),
+            ..AnalysisOptions::default()
+        };
+        let r = analyze(&x, fs, &g, shaft, &opts).unwrap().report;
+        let k = r.kurtogram.as_ref().unwrap();
+        let i = fundamental(&k.identifications, name);
+        let expected = m["expected_fault_frequencies_hz"][name].as_f64().unwrap();
+        let err = (i.identified_hz - expected) / expected * 100.0;
+        eprintln!(
+            "{id}: kurtogram band {:.0}-{:.0} Hz (level {:.1}, SK {:.2}); best DTCWT level {} ({:.0}-{:.0} Hz); {name} {err:+.3} %, {:.1} dB",
+            k.band_hz[0],
+            k.band_hz[1],
+            k.level,
+            k.kurtosis,
+            r.best_component.level,
+            r.best_component.band_hz[0],
+            r.best_component.band_hz[1],
+            i.prominence_db
+        );
+        // Measured (docs/model.md, "Kurtogram"): on IR007 the band chosen is 5.5-6 kHz and
+        // BPFI reads 11.3 dB there, under the 12 dB detection threshold, where the best
+        // DTCWT level detects it; so only the line's frequency is asserted here.
+        assert!(err.abs() < TOL_PCT, "{id}: {name} off by {err} %");
+    }
+}

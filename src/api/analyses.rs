@@ -338,6 +338,7 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     if let Some(s) = q.str("qshift") {
         options.qshift = s.to_string();
     }
+    options.kurtogram_levels = q.get::<usize>("kurtogram_levels")?;
     let input = AnalysisInput {
         sample_rate,
         geometry,

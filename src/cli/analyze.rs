@@ -57,6 +57,10 @@ pub struct AnalyzeArgs {
     /// Report the identifications of every DTCWT level, not only the best two.
     #[arg(long)]
     pub all_levels: bool,
+    /// Also choose a band by Antoni's kurtogram over this many levels (1-12) and report
+    /// what its envelope spectrum shows (`kurtogram` in the report).
+    #[arg(long)]
+    pub kurtogram_levels: Option<usize>,
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
@@ -149,6 +153,7 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         qshift: args.qshift.clone(),
         detection_threshold_db: args.threshold_db,
         report_all_levels: args.all_levels,
+        kurtogram_levels: args.kurtogram_levels,
     };
     let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;

@@ -129,10 +129,13 @@ def run(page, base, shots, console_errors):
         page.fill("#fs", "12000")
         page.fill("#rpm", "1797")
         page.select_option("#bearing", "cwru6205")
+        page.fill("#kurtogram", "6")
         page.click("button[type=submit]")
         page.wait_for_url(re.compile(r"#/analyses/[\w-]+$"))
         expect(page.locator("#job-state")).to_have_text("succeeded", timeout=120_000)
         expect(page.locator('#ids-raw tr[data-line="BPFI"][data-detected="true"]').first).to_be_visible()
+        # the kurtogram's band is reported too (there BPFI reads 11.3 dB, under the threshold)
+        expect(page.locator('#ids-kurtogram tr[data-line="BPFI"]').first).to_be_visible()
 
     def cancel_a_running_job():
         submit_form(page, base, 0.5)

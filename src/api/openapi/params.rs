@@ -143,6 +143,9 @@ pub struct RawAnalysisQuery {
     pub biort: Option<String>,
     /// Raw body only; filter set of levels >= 2.
     pub qshift: Option<String>,
+    /// Raw body only; also choose a band by the kurtogram over this many levels.
+    #[param(minimum = 1, maximum = 12)]
+    pub kurtogram_levels: Option<usize>,
 }
 
 /// How an analysis request is answered.

@@ -274,7 +274,8 @@ async function uploadView() {
       h("div", { class: "field" }, h("label", { for: "file" }, "Signal file (f32 little-endian, CSV or JSON array)"), h("input", { id: "file", type: "file", required: true })),
       h("div", { class: "field", "data-path": "sample_rate" }, h("label", { for: "fs" }, "Sample rate (Hz)"), h("input", { id: "fs", type: "number", step: "any", value: 12000, required: true }), h("div", { class: "error" })),
       h("div", { class: "field", "data-path": "shaft_rpm" }, h("label", { for: "rpm" }, "Shaft speed (rev/min)"), h("input", { id: "rpm", type: "number", step: "any", value: 1797, required: true }), h("div", { class: "error" })),
-      h("div", { class: "field" }, h("label", { for: "bearing" }, "Bearing"), h("select", { id: "bearing" }, ["cwru6205", "h7005c"].map((b) => h("option", { value: b }, b))))),
+      h("div", { class: "field" }, h("label", { for: "bearing" }, "Bearing"), h("select", { id: "bearing" }, ["cwru6205", "h7005c"].map((b) => h("option", { value: b }, b)))),
+      h("div", { class: "field", "data-path": "options.kurtogram_levels" }, h("label", { for: "kurtogram" }, "Kurtogram levels (blank: none)"), h("input", { id: "kurtogram", type: "number", min: 1, max: 12, step: 1 }), h("div", { class: "error" }))),
     h("p", {}, h("button", { type: "submit", class: "primary" }, "Analyse")), status);
   form.addEventListener("submit", async (ev) => {
     ev.preventDefault();
@@ -282,6 +283,8 @@ async function uploadView() {
     if (!file) { status.textContent = "Choose a file first."; return; }
     const fs = Number(form.querySelector("#fs").value), rpm = Number(form.querySelector("#rpm").value);
     const preset = form.querySelector("#bearing").value;
+    const kl = form.querySelector("#kurtogram").value;
+    const options = kl ? { kurtogram_levels: Number(kl) } : undefined;
     const name = file.name.toLowerCase();
     let r;
     status.textContent = "Uploading…";
@@ -289,15 +292,18 @@ async function uploadView() {
       const text = await file.text();
       const samples = name.endsWith(".json") ? JSON.parse(text) : text.split(/[\s,;]+/).filter(Boolean).map(Number);
       r = await api("/v1/analyses?mode=async", { method: "POST", headers: { "Content-Type": "application/json" },
-        body: JSON.stringify({ samples, sample_rate: fs, preset, shaft_rpm: rpm }) });
+        body: JSON.stringify({ samples, sample_rate: fs, preset, shaft_rpm: rpm, options }) });
     } else {
       const q = new URLSearchParams({ mode: "async", sample_rate: fs, shaft_rpm: rpm, preset });
+      if (kl) q.set("kurtogram_levels", kl);
       r = await api(`/v1/analyses?${q}`, { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: await file.arrayBuffer() });
     }
     if (r.status === 202 || r.status === 200) { location.hash = `#/analyses/${r.body.id}`; return; }
     status.textContent = r.body.detail || `refused (${r.status})`;
     for (const e of r.body.errors || []) {
-      const box = form.querySelector(`.field[data-path="${CSS.escape(e.path)}"]`);
+      // raw uploads name options by their query parameter, JSON ones as options.<name>
+      const box = form.querySelector(`.field[data-path="${CSS.escape(e.path)}"]`)
+        || form.querySelector(`.field[data-path="options.${CSS.escape(e.path)}"]`);
       if (box) { box.classList.add("invalid"); box.querySelector(".error").textContent = e.message; }
     }
   });
@@ -355,6 +361,10 @@ function renderResult(kind, id, result, box) {
   if (!a) { box.append(h("p", { class: "muted" }, result.analysis_error || "No analysis.")); return; }
   box.append(idTable("Identified in the raw envelope spectrum", a.raw, "ids-raw"),
     idTable(`Identified in the best DTCWT component (level ${a.best_component.level}, kurtosis ${fmt(a.best_component.kurtosis)})`, a.best_component.identifications, "ids-best"));
+  if (a.kurtogram) {
+    const k = a.kurtogram;
+    box.append(idTable(`Identified in the kurtogram's band (${fmt(k.band_hz[0])}-${fmt(k.band_hz[1])} Hz, level ${fmt(k.level)}, spectral kurtosis ${fmt(k.kurtosis)})`, k.identifications, "ids-kurtogram"));
+  }
   if (kind === "simulations") box.append(signalPlot(id, result));
   box.append(spectrumPlot(kind, id, a));
   const kbox = h("div", {});

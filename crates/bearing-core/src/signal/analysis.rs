@@ -46,6 +46,12 @@ pub struct AnalysisOptions {
     /// Also report the identifications of every level (band-pass by wavelet level), not only
     /// the best and runner-up (default false).
     pub report_all_levels: bool,
+    /// Also choose a band by the kurtogram over this many levels, 1..=12, and report what
+    /// the envelope spectrum of that band shows (default none: the kurtogram is not
+    /// computed).
+    #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 12))]
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kurtogram_levels: Option<usize>,
 }
 
 impl Default for AnalysisOptions {
@@ -60,6 +66,7 @@ impl Default for AnalysisOptions {
             qshift: "qshift_b".into(),
             detection_threshold_db: DEFAULT_THRESHOLD_DB,
             report_all_levels: false,
+            kurtogram_levels: None,
         }
     }
 }
@@ -76,6 +83,21 @@ pub struct ComponentReport {
     pub kurtosis: f64,
     /// Nominal pass band of the level, Hz.
     pub band_hz: [f64; 2],
+    pub identifications: Vec<Identification>,
+    /// Shaft-rate sidebands around the BPFI harmonics.
+    pub bpfi_sidebands: Vec<Sideband>,
+}
+
+/// The band the kurtogram chose and what its envelope spectrum shows.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct KurtogramReport {
+    /// Level of the band in the 1/3-binary tree (0, 1, 1.6, 2, ...), -.
+    pub level: f64,
+    /// Band edges, Hz.
+    pub band_hz: [f64; 2],
+    /// Spectral kurtosis of the band, -.
+    pub kurtosis: f64,
     pub identifications: Vec<Identification>,
     /// Shaft-rate sidebands around the BPFI harmonics.
     pub bpfi_sidebands: Vec<Sideband>,
@@ -118,6 +140,9 @@ pub struct AnalysisReport {
     /// Every level, index 0 = level 1, when `report_all_levels` was asked for (else empty).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub all_levels: Vec<ComponentReport>,
+    /// The kurtogram's band, when `kurtogram_levels` was asked for.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kurtogram: Option<KurtogramReport>,
 }
 
 /// Report plus the spectra it was read from.
@@ -274,6 +299,28 @@ pub fn analyze_cancellable(
         Vec::new()
     };
 
+    let kurtogram = match opts.kurtogram_levels {
+        None => None,
+        Some(levels) => {
+            check()?;
+            // only bands wide enough for every harmonic searched of the highest fault
+            // frequency: an envelope shows modulation only up to its band's width
+            let widest_line = opts.harmonics as f64 * theory.bpfi.max(theory.bpfo);
+            let best = super::kurtogram::kurtogram(x, fs, levels)
+                .map_err(|e| invalid("kurtogram_levels", e.to_string()))?
+                .best_at_least(widest_line);
+            let spectrum = plan.compute(x, fs, Some([best.low_hz, best.high_hz]));
+            let ids = identify(&spectrum, &theory, &id_opts);
+            let sidebands = bpfi_sidebands(&spectrum, &theory, &ids, &id_opts);
+            Some(KurtogramReport {
+                level: best.level,
+                band_hz: [best.low_hz, best.high_hz],
+                kurtosis: best.kurtosis,
+                identifications: ids,
+                bpfi_sidebands: sidebands,
+            })
+        }
+    };
     let raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
     let report = AnalysisReport {
@@ -291,6 +338,7 @@ pub fn analyze_cancellable(
         best_component,
         runner_up_component,
         all_levels,
+        kurtogram,
     };
     Ok(AnalysisOutput {
         report,
@@ -346,6 +394,18 @@ fn window_range(
             }
         });
     }
+    if let Some(kl) = opts.kurtogram_levels {
+        let need = super::kurtogram::min_length(kl);
+        if i1 - i0 < need {
+            return Err(invalid(
+                "kurtogram_levels",
+                format!(
+                    "the signal holds {} samples, too short for {kl} kurtogram levels (need >= {need})",
+                    i1 - i0
+                ),
+            ));
+        }
+    }
     Ok((i0, i1))
 }
 
@@ -373,6 +433,14 @@ fn validate_options(opts: &AnalysisOptions, fs: f64) -> Result<(), AnalysisError
             "search_band_pct",
             format!("must be in (0, 50] % (got {})", opts.search_band_pct),
         ));
+    }
+    if let Some(kl) = opts.kurtogram_levels {
+        if !(1..=12).contains(&kl) {
+            return Err(invalid(
+                "kurtogram_levels",
+                format!("must be in 1..=12 (got {kl})"),
+            ));
+        }
     }
     if opts.harmonics == 0 || opts.harmonics > 50 {
         return Err(invalid(

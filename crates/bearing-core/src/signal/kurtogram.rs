@@ -48,6 +48,22 @@ pub struct Kurtogram {
     pub best: Band,
 }
 
+impl Kurtogram {
+    /// The band of largest kurtosis among those at least `min_bandwidth_hz` wide (the
+    /// whole band if none is): an envelope shows modulation only up to its band's width,
+    /// so a band narrower than the fault frequencies sought cannot show them, however
+    /// impulsive it is.
+    pub fn best_at_least(&self, min_bandwidth_hz: f64) -> Band {
+        self.levels
+            .iter()
+            .flatten()
+            .filter(|b| b.bandwidth_hz() >= min_bandwidth_hz)
+            .copied()
+            .max_by(|a, b| a.kurtosis.total_cmp(&b.kurtosis))
+            .unwrap_or(self.levels[0][0])
+    }
+}
+
 /// Why no kurtogram can be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum KurtogramError {
