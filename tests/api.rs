@@ -74,12 +74,7 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     // 422: every field problem at once
     let (st, h, body) = post_json(&c, &sims, &json!({"preset": "h7005c", "overrides": {"bearing": {"ball_diameter": -1.0}, "solver": {"duration": 0}}})).await;
     assert_problem(st, &h, &body, 422);
-    let paths: Vec<&str> = body["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e["path"].as_str().unwrap())
-        .collect();
+    let paths = error_paths(&body);
     assert!(
         paths.contains(&"scene.bearing.ball_diameter") && paths.contains(&"scene.solver.duration"),
         "{body}"
@@ -93,12 +88,7 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     )
     .await;
     assert_problem(st, &h, &body, 422);
-    let paths: Vec<&str> = body["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e["path"].as_str().unwrap())
-        .collect();
+    let paths = error_paths(&body);
     for p in ["preset", "fault_case", "extra"] {
         assert!(paths.contains(&p), "{p} missing: {body}");
     }
@@ -114,14 +104,13 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     )
     .await;
     assert_problem(st, &h, &body, 422);
-    let errors = body["errors"].as_array().unwrap();
-    let paths: Vec<&str> = errors.iter().map(|e| e["path"].as_str().unwrap()).collect();
+    let paths = error_paths(&body);
     assert_eq!(
         paths,
         ["scene.operating.axial_load", "scene.operating.radial_load"],
         "{body}"
     );
-    let message = errors[0]["message"].as_str().unwrap();
+    let message = body["errors"][0]["message"].as_str().unwrap();
     assert!(
         message.contains("Fr tan(alpha0) = ") && message.contains("300 N"),
         "{body}"
@@ -729,12 +718,7 @@ async fn analysis_options_are_checked_up_front_on_every_path() {
             let url = s.url(&format!("/v1/analyses{mode}"));
             let (st, h, body) = post_json(&c, &url, &req).await;
             assert_problem(st, &h, &body, 422);
-            let paths: Vec<&str> = body["errors"]
-                .as_array()
-                .unwrap_or_else(|| panic!("{mode} {options}: no errors[]: {body}"))
-                .iter()
-                .map(|e| e["path"].as_str().unwrap())
-                .collect();
+            let paths = error_paths(&body);
             assert!(
                 paths.iter().any(|p| p.starts_with(path)),
                 "{mode} {options}: {paths:?} in {body}"

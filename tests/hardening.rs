@@ -113,12 +113,7 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
     let body = json!({"preset": "h7005c", "overrides": {"solver": {"duration": 10, "integrator": "rk4_fixed", "initial_step": 1e-12}}});
     let (st, h, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_problem(st, &h, &p, 422);
-    let paths: Vec<&str> = p["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e["path"].as_str().unwrap())
-        .collect();
+    let paths = error_paths(&p);
     assert_eq!(
         paths,
         ["scene.solver.duration", "scene.solver.initial_step"],
@@ -155,12 +150,7 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
         "outputs": {"cage_speed": true, "inner_ring_displacement": true, "contact_loads_ball": 0}}});
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_eq!(st, 422, "{p}");
-    let paths: Vec<&str> = p["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e["path"].as_str().unwrap())
-        .collect();
+    let paths = error_paths(&p);
     assert_eq!(
         paths,
         ["scene.solver.duration", "scene.solver.sample_rate"],

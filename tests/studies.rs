@@ -308,12 +308,7 @@ async fn a_bad_point_is_named_and_nothing_is_queued() {
     body["design"]["factors"][0]["values"] = json!([300.0, -5.0]);
     let (st, h, problem) = post_json(&c, &s.url("/v1/studies"), &body).await;
     assert_problem(st, &h, &problem, 422);
-    let fields: Vec<&str> = problem["errors"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|e| e["path"].as_str().unwrap())
-        .collect();
+    let fields = error_paths(&problem);
     assert_eq!(
         fields,
         ["points[1].scene.operating.axial_load"],

@@ -162,11 +162,8 @@ pub async fn submit(
         )));
     };
 
-    let over = over_job_bytes(
-        samples.len(),
-        input.options.levels,
-        state.config.max_job_bytes,
-    );
+    let over =
+        super::budget::over_analysis_budget(samples.len(), input.options.levels, &state.config);
     if !over.is_empty() {
         return Err(Problem::validation(over));
     }
@@ -213,31 +210,6 @@ pub async fn submit(
         },
     })
     .into_response())
-}
-
-/// Storage of an analysis of `n` samples at `levels` levels, bytes: the samples (f64)
-/// and `levels + 1` envelope spectra of `n / 2 + 1` bins (f32).
-fn analysis_bytes(n: usize, levels: usize) -> i64 {
-    (8 * n + (levels + 1) * 4 * (n / 2 + 1)) as i64
-}
-
-/// Problems naming `samples` and `options.levels` when the analysis would store more
-/// than `limit` bytes (--max-job-bytes).
-fn over_job_bytes(n: usize, levels: usize, limit: i64) -> Vec<FieldProblem> {
-    let bytes = analysis_bytes(n, levels);
-    if bytes <= limit {
-        return Vec::new();
-    }
-    let message = format!(
-        "{n} samples at {levels} levels would store {bytes} bytes of samples and spectra, over the limit of {limit} per job (--max-job-bytes); send fewer samples or fewer levels"
-    );
-    ["samples", "options.levels"]
-        .into_iter()
-        .map(|path| FieldProblem {
-            path: path.into(),
-            message: message.clone(),
-        })
-        .collect()
 }
 
 fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {

@@ -60,8 +60,8 @@ pub async fn problem_for_every_error(req: Request, next: Next) -> Response {
 /// Answers 413 at once when the declared `Content-Length` is over the body limit,
 /// before a byte of the body is read (the body limit alone only trips after reading up
 /// to it, so a client declaring 400 MB and sending 16 bytes held the request until the
-/// timeout answered 408).
-pub async fn refuse_declared_oversize(
+/// timeout answered 408); and makes a large body wait for a large-transfer permit.
+pub async fn bound_request_bodies(
     State(state): State<AppState>,
     req: Request,
     next: Next,

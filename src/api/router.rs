@@ -42,7 +42,7 @@ pub fn router(state: AppState) -> Router {
         ))
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
-            middleware::refuse_declared_oversize,
+            middleware::bound_request_bodies,
         ))
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),

@@ -226,6 +226,16 @@ pub async fn wait_finished(
     .await
 }
 
+/// The `path` of every entry of a 422's `errors[]` (panics, showing the body, without one).
+pub fn error_paths(body: &Value) -> Vec<&str> {
+    body["errors"]
+        .as_array()
+        .unwrap_or_else(|| panic!("no errors[]: {body}"))
+        .iter()
+        .map(|e| e["path"].as_str().unwrap())
+        .collect()
+}
+
 /// Every problem response has the RFC 9457 members and content type.
 pub fn assert_problem(status: u16, headers: &reqwest::header::HeaderMap, body: &Value, want: u16) {
     assert_eq!(status, want, "{body}");
