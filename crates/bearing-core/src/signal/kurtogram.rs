@@ -6,13 +6,15 @@
 //! Level `k` splits `[0, fs/2]` into `2^k` bands, and the intermediate level `k + log2 3 -
 //! 1` (written `k + 0.6`) into `3 * 2^(k-1)`, as Antoni's tree does. Each band's complex
 //! envelope is taken with an ideal (rectangular) band-pass in the frequency domain: the
-//! band's bins of one FFT of the signal, shifted to baseband and transformed back at the
-//! band's own, decimated, length. That costs one FFT of the signal plus, per level, inverse
-//! FFTs whose lengths add up to the signal's, and it is the kurtogram of an exact filter
+//! band's bins of one FFT of the signal (extended by its mirror image, so that the FFT's
+//! periodic wrap has no step), shifted to baseband and transformed back at the band's own,
+//! decimated, length. That costs one FFT of twice the signal plus, per level, inverse
+//! FFTs whose lengths add up to twice the signal's, and it is the kurtogram of an exact filter
 //! bank where Antoni's fast algorithm uses short quasi-analytic FIR filters (whose overlap
 //! it corrects for); band edges and the kurtosis of each band are the same in intent.
 //!
-//! Spectral kurtosis of a band's complex envelope `c`: `K = <|c|^4> / <|c|^2>^2 - 2`, zero
+//! Spectral kurtosis of a band's complex envelope `c` (its mean removed): `K = <|c|^4> /
+//! <|c|^2>^2 - 2`, zero
 //! for stationary Gaussian noise (complex), large when the band carries sparse impulses.
 
 use rustfft::num_complex::Complex64;
@@ -103,10 +105,20 @@ pub fn kurtogram(x: &[f64], fs: f64, levels: usize) -> Result<Kurtogram, Kurtogr
     }
     let mut planner = FftPlanner::<f64>::new();
     let mean = x.iter().sum::<f64>() / n as f64;
-    let mut spectrum: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v - mean, 0.0)).collect();
-    planner.plan_fft_forward(n).process(&mut spectrum);
-    // bins 0..=n/2 hold [0, fs/2]
-    let half = n / 2;
+    // The record and its mirror image, `2n` samples: an FFT treats its input as periodic,
+    // and the plain record's wrap from the last sample to the first is a step, a broadband
+    // impulse that gave near-empty bands next to Nyquist a spectral kurtosis in the
+    // hundreds or thousands (measured against Antoni's reference, docs/kurtogram-reference.md).
+    // The mirrored record wraps without a step.
+    let mut spectrum: Vec<Complex64> = x
+        .iter()
+        .chain(x.iter().rev())
+        .map(|&v| Complex64::new(v - mean, 0.0))
+        .collect();
+    let m = spectrum.len();
+    planner.plan_fft_forward(m).process(&mut spectrum);
+    // bins 0..=m/2 hold [0, fs/2]
+    let half = m / 2;
 
     let mut out: Vec<Vec<Band>> = Vec::new();
     let mut buf: Vec<Complex64> = Vec::new();
@@ -118,11 +130,13 @@ pub fn kurtogram(x: &[f64], fs: f64, levels: usize) -> Result<Kurtogram, Kurtogr
                 buf.clear();
                 buf.extend_from_slice(&spectrum[lo..hi]);
                 planner.plan_fft_inverse(buf.len()).process(&mut buf);
+                // the first half of the band signal is the record, the second its mirror
+                let record = &buf[..buf.len().div_ceil(2)];
                 Band {
                     level,
-                    low_hz: lo as f64 * fs / n as f64,
-                    high_hz: hi as f64 * fs / n as f64,
-                    kurtosis: complex_kurtosis(&buf),
+                    low_hz: lo as f64 * fs / m as f64,
+                    high_hz: hi as f64 * fs / m as f64,
+                    kurtosis: complex_kurtosis(record),
                 }
             })
             .collect()
@@ -144,11 +158,13 @@ pub fn kurtogram(x: &[f64], fs: f64, levels: usize) -> Result<Kurtogram, Kurtogr
     Ok(Kurtogram { levels: out, best })
 }
 
-/// `<|c|^4> / <|c|^2>^2 - 2`; 0 for a band with no energy.
+/// `<|c - <c>|^4> / <|c - <c>|^2>^2 - 2` (the band signal's mean removed, as Antoni
+/// does); 0 for a band with no energy.
 fn complex_kurtosis(c: &[Complex64]) -> f64 {
+    let mean = c.iter().sum::<Complex64>() / c.len() as f64;
     let (mut m2, mut m4) = (0.0, 0.0);
     for v in c {
-        let p = v.norm_sqr();
+        let p = (v - mean).norm_sqr();
         m2 += p;
         m4 += p * p;
     }
