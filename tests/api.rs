@@ -528,12 +528,19 @@ async fn analyses_run_directly_or_as_queued_jobs() {
             .len()
             > 100
     );
+    // the verdict comes with the result: an outer-race fault and nothing else
+    assert_eq!(
+        body["analysis"]["verdict"]["faults"],
+        json!(["outer_race"]),
+        "{}",
+        body["analysis"]["verdict"]
+    );
 
     // raw f32 body, queued on request, searching 4 harmonics (the analysis default is 3)
     let raw: Vec<u8> = x.iter().flat_map(|v| (*v as f32).to_le_bytes()).collect();
     let r = c
         .post(s.url(
-            "/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797&harmonics=4",
+            "/v1/analyses?mode=async&sample_rate=12000&preset=cwru6205&shaft_rpm=1797&harmonics=4&false_alarm_rate=0.0001",
         ))
         .header("content-type", "application/octet-stream")
         .body(raw)
@@ -560,6 +567,7 @@ async fn analyses_run_directly_or_as_queued_jobs() {
     assert_eq!(job["state"], "succeeded", "{job}\n{}", s.log());
     let (st, _, result) = get_json(&c, &s.url(&format!("{loc}/result"))).await;
     assert_eq!(st, 200);
+    assert_eq!(result["analysis"]["verdict"]["false_alarm_rate"], 1e-4);
     assert!(
         result["analysis"]["level_kurtosis"]
             .as_array()

@@ -311,6 +311,9 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
         options.qshift = s.to_string();
     }
     options.kurtogram_levels = q.get::<usize>("kurtogram_levels")?;
+    if let Some(p) = q.f64("false_alarm_rate")? {
+        options.false_alarm_rate = p;
+    }
     let input = AnalysisInput {
         sample_rate,
         geometry,

@@ -61,6 +61,9 @@ pub struct AnalyzeArgs {
     /// what its envelope spectrum shows (`kurtogram` in the report).
     #[arg(long)]
     pub kurtogram_levels: Option<usize>,
+    /// False-alarm rate of the fault verdict, per fault type (`verdict` in the report)
+    #[arg(long, default_value_t = bearing_core::signal::verdict::DEFAULT_FALSE_ALARM_RATE)]
+    pub false_alarm_rate: f64,
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
@@ -154,6 +157,7 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         detection_threshold_db: args.threshold_db,
         report_all_levels: args.all_levels,
         kurtogram_levels: args.kurtogram_levels,
+        false_alarm_rate: args.false_alarm_rate,
     };
     let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
         .map_err(|e| format!("{}: {e}", args.file.display()))?;

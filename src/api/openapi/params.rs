@@ -143,9 +143,14 @@ pub struct RawAnalysisQuery {
     pub biort: Option<String>,
     /// Raw body only; filter set of levels >= 2.
     pub qshift: Option<String>,
-    /// Raw body only; also choose a band by the kurtogram over this many levels.
+    /// Raw body only; choose the band by the kurtogram over this many levels (the verdict
+    /// then reads that band instead of the DTCWT components).
     #[param(minimum = 1, maximum = 12)]
     pub kurtogram_levels: Option<usize>,
+    /// Raw body only; false-alarm rate of the fault verdict per fault type, in (0, 0.5]
+    /// (default 1e-3).
+    #[param(exclusive_minimum = 0.0, maximum = 0.5)]
+    pub false_alarm_rate: Option<f64>,
 }
 
 /// How an analysis request is answered.

@@ -14,6 +14,7 @@ use super::frequencies::{
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
 use super::kurtosis::kurtosis;
 use super::spectrum::EnvelopeSpectrumPlan;
+use super::verdict::{verdict, CandidateSpectrum, Verdict, DEFAULT_FALSE_ALARM_RATE};
 
 pub use super::identify::{Identification, Sideband};
 pub use super::spectrum::Spectrum;
@@ -46,12 +47,17 @@ pub struct AnalysisOptions {
     /// Also report the identifications of every level (band-pass by wavelet level), not only
     /// the best and runner-up (default false).
     pub report_all_levels: bool,
-    /// Also choose a band by the kurtogram over this many levels, 1..=12, and report what
-    /// the envelope spectrum of that band shows (default none: the kurtogram is not
-    /// computed).
+    /// Choose the band by the kurtogram over this many levels, 1..=12: the envelope spectrum
+    /// of that band is reported as `kurtogram` and the verdict reads it (with the raw
+    /// spectrum) instead of the best two DTCWT components (default none: the kurtogram is
+    /// not computed and the verdict reads the DTCWT components).
     #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 12))]
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kurtogram_levels: Option<usize>,
+    /// False-alarm rate of the fault verdict per fault type, in (0, 0.5] (default 1e-3):
+    /// the chance that a fault type is named on a spectrum whose lines are unrelated to it.
+    #[cfg_attr(feature = "openapi", schema(exclusive_minimum = 0.0, maximum = 0.5))]
+    pub false_alarm_rate: f64,
 }
 
 impl Default for AnalysisOptions {
@@ -67,6 +73,7 @@ impl Default for AnalysisOptions {
             detection_threshold_db: DEFAULT_THRESHOLD_DB,
             report_all_levels: false,
             kurtogram_levels: None,
+            false_alarm_rate: DEFAULT_FALSE_ALARM_RATE,
         }
     }
 }
@@ -143,6 +150,12 @@ pub struct AnalysisReport {
     /// The kurtogram's band, when `kurtogram_levels` was asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kurtogram: Option<KurtogramReport>,
+    /// Fault types indicated and the evidence, read from the raw spectrum and the best and
+    /// runner-up components, or the kurtogram's band when it was asked for (method in
+    /// docs/model.md, "Verdict"). Absent only in
+    /// reports stored before the verdict existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub verdict: Option<Verdict>,
 }
 
 /// Report plus the spectra it was read from.
@@ -299,6 +312,7 @@ pub fn analyze_cancellable(
         Vec::new()
     };
 
+    let mut kurtogram_spectrum = None;
     let kurtogram = match opts.kurtogram_levels {
         None => None,
         Some(levels) => {
@@ -312,6 +326,7 @@ pub fn analyze_cancellable(
             let spectrum = plan.compute(x, fs, Some([best.low_hz, best.high_hz]));
             let ids = identify(&spectrum, &theory, &id_opts);
             let sidebands = bpfi_sidebands(&spectrum, &theory, &ids, &id_opts);
+            kurtogram_spectrum = Some(spectrum);
             Some(KurtogramReport {
                 level: best.level,
                 band_hz: [best.low_hz, best.high_hz],
@@ -323,6 +338,38 @@ pub fn analyze_cancellable(
     };
     let raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
+    let level_candidate = |c: &ComponentReport| CandidateSpectrum {
+        label: format!("level {}", c.level),
+        band_hz: Some(c.band_hz),
+        spectrum: &level_spectra[c.level - 1],
+    };
+    // The verdict reads the raw spectrum and the band(s) of the band-selection method asked
+    // for: the kurtogram's band when `kurtogram_levels` is given, else the two DTCWT
+    // components of largest kurtosis.
+    let mut candidates = vec![CandidateSpectrum {
+        label: "raw".into(),
+        band_hz: opts.band,
+        spectrum: &raw_spectrum,
+    }];
+    if let (Some(k), Some(s)) = (&kurtogram, &kurtogram_spectrum) {
+        candidates.push(CandidateSpectrum {
+            label: "kurtogram".into(),
+            band_hz: Some(k.band_hz),
+            spectrum: s,
+        });
+    } else {
+        candidates.push(level_candidate(&best_component));
+        if runner_up_component.level != best_component.level {
+            candidates.push(level_candidate(&runner_up_component));
+        }
+    }
+    let verdict = verdict(
+        &candidates,
+        &theory,
+        geometry.ball_count,
+        opts.search_band_pct,
+        opts.false_alarm_rate,
+    );
     let report = AnalysisReport {
         sample_rate: fs,
         n_samples: x.len(),
@@ -339,6 +386,7 @@ pub fn analyze_cancellable(
         runner_up_component,
         all_levels,
         kurtogram,
+        verdict: Some(verdict),
     };
     Ok(AnalysisOutput {
         report,
@@ -441,6 +489,12 @@ fn validate_options(opts: &AnalysisOptions, fs: f64) -> Result<(), AnalysisError
                 format!("must be in 1..=12 (got {kl})"),
             ));
         }
+    }
+    if !(opts.false_alarm_rate > 0.0 && opts.false_alarm_rate <= 0.5) {
+        return Err(invalid(
+            "false_alarm_rate",
+            format!("must be in (0, 0.5] (got {})", opts.false_alarm_rate),
+        ));
     }
     if opts.harmonics == 0 || opts.harmonics > 50 {
         return Err(invalid(

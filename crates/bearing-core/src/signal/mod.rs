@@ -10,6 +10,7 @@
 //! - [`kurtosis`]: Pearson kurtosis;
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
+//! - [`verdict`]: the fault types the spectra indicate, with the evidence;
 //! - [`io`]: reading signals from raw f32le, CSV or JSON.
 
 pub mod dtcwt;
@@ -22,6 +23,7 @@ pub mod identify;
 pub mod kurtogram;
 pub mod kurtosis;
 pub mod spectrum;
+pub mod verdict;
 
 pub use analysis::{
     analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport,

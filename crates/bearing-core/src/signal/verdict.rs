@@ -1,0 +1,571 @@
+//! The fault verdict: which fault types the envelope spectra indicate, with the evidence.
+//!
+//! Per-line detection ([`super::identify`]) tests each line against the noise floor, and on
+//! real machines nearly every kinematic line passes it: shaft harmonics, sidebands and the
+//! other families' lines are deterministic, not noise, and a longer record only makes them
+//! more significant. The verdict therefore asks a different question, one that does not
+//! depend on the record length: **are this fault's lines among the strongest lines of the
+//! spectrum, more than chance would put them there?**
+//!
+//! 1. **Lines and ranks.** In each candidate spectrum (raw, the best and runner-up DTCWT
+//!    components, the kurtogram band when computed) the local maxima up to `f_max = (N +
+//!    1/2) max(BPFI, BPFO) + 2.5 f_r` are ranked by prominence (amplitude over the local
+//!    median of [`super::identify::local_median`]); `B` is the number of bins up to `f_max`.
+//! 2. **A fault family** is a series: outer race `h BPFO`; inner race `h BPFI` with the
+//!    shaft-rate sidebands `h BPFI +/- f_r` (the defect turns through the load zone); rolling
+//!    element `h BSF` for `h = 1..2N` (a ball defect strikes both races: 2xBSF and its
+//!    harmonics) with cage-rate sidebands `+/- FTF` (the ball turns with the cage); cage
+//!    `h FTF`. `N` = [`VERDICT_HARMONICS`].
+//! 3. **Anchor.** The best-ranked line within the search band (`search_band_pct`) around the
+//!    theoretical fundamental fixes the fundamental `f_1`: slip and a wrong speed move it,
+//!    but the harmonics then sit at `h f_1` within `1.5 df + 0.2 % h f_1` (spacing).
+//! 4. **Line p-values under chance.** If the spectrum's lines were placed without regard
+//!    to the fault family, the chance that one of the `r` best-ranked lines falls in a window
+//!    of `w` bins is at most `r w / B`; a line of rank `r` found in its window (the anchor's
+//!    window is the whole search band) has `p = min(1, r w / B)`, a missing line `p = 1`.
+//!    The lines combine by Fisher's method (`-2 sum ln p ~ chi^2` with `2 n` degrees of
+//!    freedom), times the number of spectra examined (Bonferroni).
+//! 5. **Indicated** when that probability is below the false-alarm rate
+//!    [`DEFAULT_FALSE_ALARM_RATE`] (per fault type and analysis).
+//! 6. **Attribution.** Fault types are accepted one at a time: of those that pass, the one
+//!    whose kinematic line set covers the most of the strongest remaining lines (it explains
+//!    more) is accepted first, its lines are removed from every spectrum and the others are
+//!    tested again. The line set of an outer-race fault is every multiple of the cage
+//!    frequency `BPFO / Z` (one ball returns to the defect once per cage turn; ball-to-ball
+//!    differences modulate at that rate) and the first two shaft sidebands of its harmonics;
+//!    of an inner-race fault every multiple of `BPFI / Z = f_r - FTF` (one ball meets the
+//!    defect again after one relative turn) and the shaft sidebands; of a ball fault the
+//!    BSF harmonics with their FTF sidebands; of the cage its harmonics. A line that two
+//!    hypotheses share (on the CWRU 6205, 3 BPFO and 2 BPFI are 0.7 % apart; BPFI - 18 Hz =
+//!    8 (f_r - FTF) sits 2 % above 2xBSF) thus counts once, for the fault that explains more.
+
+use serde::{Deserialize, Serialize};
+
+use super::frequencies::CharacteristicFrequencies;
+use super::identify::local_median;
+use super::spectrum::Spectrum;
+
+/// Harmonics of each fault family the verdict uses (`N`; the rolling-element family uses
+/// `2N` harmonics of BSF, i.e. `N` of 2xBSF).
+pub const VERDICT_HARMONICS: usize = 4;
+
+/// Default false-alarm rate per fault type and analysis.
+pub const DEFAULT_FALSE_ALARM_RATE: f64 = 1e-3;
+
+/// Lines whose spacing from the series is checked: `1.5 df + SPACING_FRACTION f`.
+const SPACING_FRACTION: f64 = 0.002;
+
+/// How many of the strongest remaining lines per spectrum decide which hypothesis
+/// explains more.
+const EXPLAIN_TOP_LINES: usize = 40;
+
+/// Smallest p-value reported (and the largest score, 300): keeps reports finite JSON.
+const MIN_P: f64 = 1e-300;
+
+/// A bearing fault type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+#[serde(rename_all = "snake_case")]
+pub enum FaultType {
+    OuterRace,
+    InnerRace,
+    RollingElement,
+    Cage,
+}
+
+impl FaultType {
+    pub const ALL: [FaultType; 4] = [
+        FaultType::OuterRace,
+        FaultType::InnerRace,
+        FaultType::RollingElement,
+        FaultType::Cage,
+    ];
+
+    /// The characteristic line the family is built on: `BPFO`, `BPFI`, `BSF` or `FTF`.
+    pub fn line_name(self) -> &'static str {
+        match self {
+            FaultType::OuterRace => "BPFO",
+            FaultType::InnerRace => "BPFI",
+            FaultType::RollingElement => "BSF",
+            FaultType::Cage => "FTF",
+        }
+    }
+
+    fn theory_hz(self, t: &CharacteristicFrequencies) -> f64 {
+        match self {
+            FaultType::OuterRace => t.bpfo,
+            FaultType::InnerRace => t.bpfi,
+            FaultType::RollingElement => t.bsf,
+            FaultType::Cage => t.ftf,
+        }
+    }
+}
+
+/// One line of a fault family's series as found in the spectrum.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct SeriesLine {
+    /// Harmonic number of the family's line.
+    pub harmonic: u32,
+    /// Sideband order (0 = the harmonic itself; +/-1 = shaft-rate sideband for the inner
+    /// race, cage-rate sideband for a rolling element).
+    pub order: i32,
+    /// Where the series puts the line, `harmonic f_1 + order f_s`, Hz.
+    pub expected_hz: f64,
+    /// The best-ranked line in the window, Hz; `None` when the window holds none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub found_hz: Option<f64>,
+    /// Its rank among the spectrum's lines (1 = most prominent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rank: Option<usize>,
+    /// Its amplitude over the local median, dB.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prominence_db: Option<f64>,
+    /// Chance of a line this high-ranked in this window, `min(1, rank w / B)`, -.
+    pub p_value: f64,
+}
+
+/// The evidence for one fault type.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct FaultEvidence {
+    pub fault: FaultType,
+    /// The verdict names this fault type.
+    pub indicated: bool,
+    /// Probability that chance alone ranks the family's lines this high, after the
+    /// correction for the spectra examined, -.
+    pub p_value: f64,
+    /// `-log10(p_value)`, -.
+    pub score: f64,
+    /// Spectrum the evidence comes from: `raw`, `level N` or `kurtogram`.
+    pub spectrum: String,
+    /// Band of that spectrum, Hz (`None` for the raw signal without a band-pass).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub band_hz: Option<[f64; 2]>,
+    /// Identified fundamental of the series (the anchor), Hz; `None` without a line in the
+    /// search band.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fundamental_hz: Option<f64>,
+    /// Fundamental against theory, %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_pct: Option<f64>,
+    /// Harmonics with a line of `p <= 0.05`, of `harmonics_searched`.
+    pub harmonics_found: usize,
+    pub harmonics_searched: usize,
+    /// Sidebands with a line of `p <= 0.05`, of `sidebands_searched`.
+    pub sidebands_found: usize,
+    pub sidebands_searched: usize,
+    /// Mean `|f_h / h - f_1| / f_1` over the harmonics found beyond the first, %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing_error_pct: Option<f64>,
+    /// Fault types accepted before this one whose lines were taken out first.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lines_attributed_to: Vec<FaultType>,
+    pub lines: Vec<SeriesLine>,
+}
+
+/// The verdict of an analysis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
+pub struct Verdict {
+    /// Fault types indicated, in the order they were accepted (strongest explanation
+    /// first); empty = no fault indicated.
+    pub faults: Vec<FaultType>,
+    /// False-alarm rate per fault type, -.
+    pub false_alarm_rate: f64,
+    /// Harmonics per family, `N`.
+    pub harmonics: usize,
+    /// The evidence for every fault type, indicated or not, in [`FaultType::ALL`] order.
+    pub evidence: Vec<FaultEvidence>,
+}
+
+/// A spectrum the verdict may read, with where it comes from.
+pub struct CandidateSpectrum<'a> {
+    /// `raw`, `level N` or `kurtogram`.
+    pub label: String,
+    pub band_hz: Option<[f64; 2]>,
+    pub spectrum: &'a Spectrum,
+}
+
+/// Ranked lines of one spectrum.
+struct RankedLines<'a> {
+    spectrum: &'a Spectrum,
+    /// Bins up to `f_max`.
+    bins: usize,
+    /// Local maxima, most prominent first.
+    peaks: Vec<usize>,
+    /// Prominence (amplitude over local median) of each peak, same order.
+    prominence: Vec<f64>,
+    /// Peaks taken out by an accepted fault type.
+    removed: Vec<bool>,
+}
+
+impl<'a> RankedLines<'a> {
+    fn new(spectrum: &'a Spectrum, f_max: f64) -> Self {
+        let a = &spectrum.amplitude;
+        let bins = ((f_max / spectrum.df).floor() as usize).min(a.len().saturating_sub(2));
+        let mut peaks: Vec<(usize, f64)> = (2..bins)
+            .filter(|&k| a[k] > a[k - 1] && a[k] > a[k + 1])
+            .map(|k| {
+                let m = local_median(spectrum, k as f64 * spectrum.df);
+                (k, if m > 0.0 { a[k] / m } else { f64::INFINITY })
+            })
+            .collect();
+        peaks.sort_by(|x, y| y.1.total_cmp(&x.1).then(x.0.cmp(&y.0)));
+        let n = peaks.len();
+        RankedLines {
+            spectrum,
+            bins,
+            peaks: peaks.iter().map(|p| p.0).collect(),
+            prominence: peaks.iter().map(|p| p.1).collect(),
+            removed: vec![false; n],
+        }
+    }
+
+    fn df(&self) -> f64 {
+        self.spectrum.df
+    }
+
+    /// The best-ranked remaining line in bins `[lo, hi]`: (rank among remaining lines,
+    /// bin, index in `peaks`).
+    fn best_in(&self, lo: usize, hi: usize) -> Option<(usize, usize, usize)> {
+        let mut rank = 0;
+        for (i, &k) in self.peaks.iter().enumerate() {
+            if self.removed[i] {
+                continue;
+            }
+            rank += 1;
+            if (lo..=hi).contains(&k) {
+                return Some((rank, k, i));
+            }
+        }
+        None
+    }
+
+    /// Sub-bin frequency of peak bin `k` (the ratio interpolation of `identify`).
+    fn frequency(&self, k: usize) -> f64 {
+        let a = &self.spectrum.amplitude;
+        let (am, a0, ap) = (a[k - 1], a[k], a[k + 1]);
+        let d = if ap >= am {
+            let r = ap / a0;
+            (2.0 * r - 1.0) / (r + 1.0)
+        } else {
+            let r = am / a0;
+            -(2.0 * r - 1.0) / (r + 1.0)
+        };
+        (k as f64 + d.clamp(-0.5, 0.5)) * self.df()
+    }
+}
+
+fn tolerance(df: f64, f: f64) -> f64 {
+    1.5 * df + SPACING_FRACTION * f
+}
+
+/// Survival function of chi^2 with `2 n` degrees of freedom at `x`:
+/// `exp(-x/2) sum_{i<n} (x/2)^i / i!`.
+fn chi2_sf_even(x: f64, n: usize) -> f64 {
+    let m = 0.5 * x;
+    let mut term = (-m).exp();
+    let mut sum = term;
+    for i in 1..n {
+        term *= m / i as f64;
+        sum += term;
+    }
+    sum.min(1.0)
+}
+
+/// The series of one fault type in one spectrum.
+struct SeriesResult {
+    p_value: f64,
+    fundamental_hz: Option<f64>,
+    lines: Vec<SeriesLine>,
+}
+
+fn series(
+    fault: FaultType,
+    lines: &RankedLines,
+    theory: &CharacteristicFrequencies,
+    search_band_pct: f64,
+) -> SeriesResult {
+    let df = lines.df();
+    let b = lines.bins.max(1) as f64;
+    let base = fault.theory_hz(theory);
+    let lo = ((base * (1.0 - search_band_pct / 100.0) / df).ceil() as usize).max(2);
+    let hi = ((base * (1.0 + search_band_pct / 100.0) / df).floor() as usize)
+        .min(lines.bins.saturating_sub(1));
+    let Some((rank1, k1, i1)) = (lo <= hi).then(|| lines.best_in(lo, hi)).flatten() else {
+        return SeriesResult {
+            p_value: 1.0,
+            fundamental_hz: None,
+            lines: Vec::new(),
+        };
+    };
+    let f1 = lines.frequency(k1);
+    let (n_harmonics, sideband_hz) = match fault {
+        FaultType::OuterRace | FaultType::Cage => (VERDICT_HARMONICS, None),
+        FaultType::InnerRace => (VERDICT_HARMONICS, Some(theory.shaft_hz)),
+        FaultType::RollingElement => (2 * VERDICT_HARMONICS, Some(theory.ftf * f1 / base)),
+    };
+    let f_max = lines.bins as f64 * df;
+    let mut out = Vec::new();
+    let mut log_sum = 0.0;
+    let mut push = |harmonic: u32,
+                    order: i32,
+                    expected: f64,
+                    found: Option<(usize, usize, usize)>,
+                    w: usize| {
+        let (p, found_hz, rank, prom) = match found {
+            Some((r, k, i)) => (
+                (r as f64 * w as f64 / b).min(1.0),
+                Some(lines.frequency(k)),
+                Some(r),
+                Some(20.0 * lines.prominence[i].min(1e15).log10()),
+            ),
+            None => (1.0, None, None, None),
+        };
+        log_sum += p.max(MIN_P).ln();
+        out.push(SeriesLine {
+            harmonic,
+            order,
+            expected_hz: expected,
+            found_hz,
+            rank,
+            prominence_db: prom,
+            p_value: p,
+        });
+    };
+    let window = |f: f64| {
+        let t = tolerance(df, f);
+        let lo = ((f - t) / df).ceil().max(2.0) as usize;
+        let hi = ((f + t) / df).floor() as usize;
+        (lo, hi.max(lo))
+    };
+    for h in 1..=n_harmonics as u32 {
+        let fh = h as f64 * f1;
+        if fh >= f_max {
+            break;
+        }
+        if h == 1 {
+            push(1, 0, f1, Some((rank1, k1, i1)), hi - lo + 1);
+        } else {
+            let (wl, wh) = window(fh);
+            push(h, 0, fh, lines.best_in(wl, wh), wh - wl + 1);
+        }
+        if let Some(fs) = sideband_hz {
+            for order in [-1i32, 1] {
+                let f = fh + order as f64 * fs;
+                if f <= 0.0 || f >= f_max {
+                    continue;
+                }
+                let (wl, wh) = window(f);
+                push(h, order, f, lines.best_in(wl, wh), wh - wl + 1);
+            }
+        }
+    }
+    let p_value = chi2_sf_even(-2.0 * log_sum, out.len().max(1));
+    SeriesResult {
+        p_value,
+        fundamental_hz: Some(f1),
+        lines: out,
+    }
+}
+
+/// Frequencies a fault type explains once accepted with fundamental `f1` (module docs).
+fn explained_lines(
+    fault: FaultType,
+    f1: f64,
+    theory: &CharacteristicFrequencies,
+    ball_count: usize,
+) -> Vec<f64> {
+    let n = VERDICT_HARMONICS;
+    let fr = theory.shaft_hz;
+    let z = ball_count.max(1) as f64;
+    let mut v = Vec::new();
+    let shaft_sidebands = |v: &mut Vec<f64>, orders: &[i32]| {
+        for h in 1..=n + 1 {
+            for &o in orders {
+                v.push(h as f64 * f1 + o as f64 * fr);
+            }
+        }
+    };
+    match fault {
+        FaultType::OuterRace | FaultType::InnerRace => {
+            // one ball returning to the defect: multiples of f1 / Z
+            for m in 1..=((n + 1) * ball_count.max(1)) {
+                v.push(m as f64 * f1 / z);
+            }
+            shaft_sidebands(&mut v, &[-2, -1, 1, 2]);
+        }
+        FaultType::RollingElement => {
+            let ftf = theory.ftf * f1 / theory.bsf;
+            for h in 1..=2 * n + 2 {
+                for o in [-1.0, 0.0, 1.0] {
+                    v.push(h as f64 * f1 + o * ftf);
+                }
+            }
+        }
+        FaultType::Cage => {
+            for h in 1..=3 * n {
+                v.push(h as f64 * f1);
+            }
+        }
+    }
+    v
+}
+
+/// The verdict over `spectra` for a bearing of `ball_count` balls with characteristic
+/// frequencies `theory`; `search_band_pct` is the half-width of the fundamental's search
+/// band, % (the analysis option), `false_alarm_rate` per fault type.
+pub fn verdict(
+    spectra: &[CandidateSpectrum],
+    theory: &CharacteristicFrequencies,
+    ball_count: usize,
+    search_band_pct: f64,
+    false_alarm_rate: f64,
+) -> Verdict {
+    let f_max =
+        (VERDICT_HARMONICS as f64 + 0.5) * theory.bpfi.max(theory.bpfo) + 2.5 * theory.shaft_hz;
+    let mut ranked: Vec<RankedLines> = spectra
+        .iter()
+        .map(|c| RankedLines::new(c.spectrum, f_max))
+        .collect();
+    let correction = spectra.len().max(1) as f64;
+    let mut accepted: Vec<FaultType> = Vec::new();
+    let mut evidence: Vec<Option<FaultEvidence>> = vec![None; FaultType::ALL.len()];
+
+    loop {
+        // best spectrum per remaining fault type
+        let mut round: Vec<(FaultType, FaultEvidence, f64)> = Vec::new();
+        for (fi, &fault) in FaultType::ALL.iter().enumerate() {
+            if accepted.contains(&fault) {
+                continue;
+            }
+            let mut best: Option<(usize, SeriesResult)> = None;
+            for (si, lines) in ranked.iter().enumerate() {
+                let r = series(fault, lines, theory, search_band_pct);
+                if best.as_ref().is_none_or(|(_, b)| r.p_value < b.p_value) {
+                    best = Some((si, r));
+                }
+            }
+            let Some((si, r)) = best else { continue };
+            let p = (r.p_value * correction).min(1.0);
+            let ev = evidence_of(fault, &spectra[si], r, p, theory, &accepted);
+            evidence[fi] = Some(ev.clone());
+            round.push((fault, ev, p));
+        }
+        let passing: Vec<&(FaultType, FaultEvidence, f64)> =
+            round.iter().filter(|r| r.2 < false_alarm_rate).collect();
+        if passing.is_empty() {
+            break;
+        }
+        // the hypothesis that explains more of the strongest remaining lines goes first
+        let explains = |fault: FaultType, ev: &FaultEvidence| -> usize {
+            let Some(f1) = ev.fundamental_hz else {
+                return 0;
+            };
+            let set = explained_lines(fault, f1, theory, ball_count);
+            ranked
+                .iter()
+                .map(|l| {
+                    l.peaks
+                        .iter()
+                        .zip(&l.removed)
+                        .filter(|(_, &r)| !r)
+                        .take(EXPLAIN_TOP_LINES)
+                        .filter(|(&k, _)| {
+                            let f = k as f64 * l.df();
+                            set.iter().any(|&c| (f - c).abs() <= tolerance(l.df(), c))
+                        })
+                        .count()
+                })
+                .sum()
+        };
+        let (fault, ev, _) = passing
+            .iter()
+            .max_by(|a, b| {
+                explains(a.0, &a.1)
+                    .cmp(&explains(b.0, &b.1))
+                    .then(b.2.total_cmp(&a.2))
+            })
+            .copied()
+            .expect("passing is not empty");
+        let fi = FaultType::ALL.iter().position(|f| f == fault).unwrap_or(0);
+        let mut ev = ev.clone();
+        ev.indicated = true;
+        evidence[fi] = Some(ev.clone());
+        accepted.push(*fault);
+        let set = explained_lines(*fault, ev.fundamental_hz.unwrap_or(0.0), theory, ball_count);
+        for l in ranked.iter_mut() {
+            let df = l.df();
+            for (i, &k) in l.peaks.iter().enumerate() {
+                let f = k as f64 * df;
+                if set.iter().any(|&c| (f - c).abs() <= tolerance(df, c)) {
+                    l.removed[i] = true;
+                }
+            }
+        }
+    }
+    Verdict {
+        faults: accepted,
+        false_alarm_rate,
+        harmonics: VERDICT_HARMONICS,
+        evidence: evidence.into_iter().flatten().collect(),
+    }
+}
+
+fn evidence_of(
+    fault: FaultType,
+    spectrum: &CandidateSpectrum,
+    r: SeriesResult,
+    p_value: f64,
+    theory: &CharacteristicFrequencies,
+    accepted: &[FaultType],
+) -> FaultEvidence {
+    const FOUND_P: f64 = 0.05;
+    let base = fault.theory_hz(theory);
+    let harmonics: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order == 0).collect();
+    let sidebands: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order != 0).collect();
+    let found = |v: &[&SeriesLine]| v.iter().filter(|l| l.p_value <= FOUND_P).count();
+    let spacing: Vec<f64> = match r.fundamental_hz {
+        Some(f1) => harmonics
+            .iter()
+            .filter(|l| l.harmonic > 1 && l.p_value <= FOUND_P)
+            .filter_map(|l| {
+                l.found_hz
+                    .map(|f| (f / l.harmonic as f64 - f1).abs() / f1 * 100.0)
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    FaultEvidence {
+        fault,
+        indicated: false,
+        p_value: p_value.max(MIN_P),
+        score: -p_value.max(MIN_P).log10(),
+        spectrum: spectrum.label.clone(),
+        band_hz: spectrum.band_hz,
+        fundamental_hz: r.fundamental_hz,
+        error_pct: r.fundamental_hz.map(|f| (f - base) / base * 100.0),
+        harmonics_found: found(&harmonics),
+        harmonics_searched: harmonics.len(),
+        sidebands_found: found(&sidebands),
+        sidebands_searched: sidebands.len(),
+        spacing_error_pct: (!spacing.is_empty())
+            .then(|| spacing.iter().sum::<f64>() / spacing.len() as f64),
+        lines_attributed_to: accepted.to_vec(),
+        lines: r.lines,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chi2_survival_matches_closed_forms() {
+        // 2 dof: exp(-x/2); 4 dof: exp(-x/2)(1 + x/2)
+        assert!((chi2_sf_even(3.0, 1) - (-1.5f64).exp()).abs() < 1e-15);
+        assert!((chi2_sf_even(3.0, 2) - (-1.5f64).exp() * 2.5).abs() < 1e-15);
+        assert_eq!(chi2_sf_even(0.0, 3), 1.0);
+    }
+}

@@ -1,0 +1,136 @@
+//! The fault verdict on the committed evaluation set (tests/fixtures/eval, built by
+//! scripts/make_eval_set.py; docs/cwru.md has the full table and the confusion tables from
+//! scripts/eval_report.py).
+//!
+//! What is asserted is what the issue asks and the verdict achieves, with both band-selection
+//! methods (DTCWT components, kurtogram band):
+//! - every CWRU inner- and outer-race excerpt but one gets its type and no other; the normal
+//!   recording and the synthetic healthy machine get none;
+//! - the simulated single faults get exactly their type;
+//! - where the verdict falls short it still names no wrong type: OR014 (no outer-race series
+//!   ranks high enough in a 2 s excerpt) and the simulated compound case (its outer-ring
+//!   impacts are 23 dB below the inner-ring ones; only the inner race is named).
+//!
+//! Not asserted, reported in docs/cwru.md: the ball-fault recordings, and the simulated
+//! healthy bearing, which shows the variable-compliance BPFO series of a radially loaded
+//! bearing (noise-free, so any test ranks it first).
+
+mod common;
+
+use bearing_core::signal::verdict::{FaultType, Verdict};
+use bearing_core::signal::{analyze, kinematic_preset, AnalysisOptions};
+
+struct Signal {
+    id: String,
+    file: String,
+    fs: f64,
+    shaft_hz: f64,
+    bearing: String,
+    truth: Vec<FaultType>,
+}
+
+fn signals() -> Vec<Signal> {
+    let p =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/eval/manifest.json");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    m["signals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| Signal {
+            id: s["id"].as_str().unwrap().into(),
+            file: s["file"].as_str().unwrap().into(),
+            fs: s["fs_hz"].as_f64().unwrap(),
+            shaft_hz: s["shaft_hz"].as_f64().unwrap(),
+            bearing: s["bearing"].as_str().unwrap().into(),
+            truth: s["truth"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| match t.as_str().unwrap() {
+                    "inner_race" => FaultType::InnerRace,
+                    "outer_race" => FaultType::OuterRace,
+                    "ball" => FaultType::RollingElement,
+                    other => panic!("unknown truth {other}"),
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+fn verdict_of(s: &Signal, kurtogram: bool) -> Verdict {
+    let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
+    let g = kinematic_preset(&s.bearing).unwrap();
+    let opts = AnalysisOptions {
+        // narrowest kurtogram band about 100 Hz
+        kurtogram_levels: kurtogram.then(|| ((s.fs / 200.0).log2().round() as usize).min(12)),
+        ..Default::default()
+    };
+    analyze(&x, s.fs, &g, s.shaft_hz, &opts)
+        .unwrap()
+        .report
+        .verdict
+        .unwrap()
+}
+
+fn sorted(mut v: Vec<FaultType>) -> Vec<FaultType> {
+    v.sort_by_key(|f| FaultType::ALL.iter().position(|g| g == f));
+    v
+}
+
+#[test]
+fn the_verdict_names_the_true_fault_types() {
+    let known_short = ["cwru_or014c_0hp_12k_de", "sim_h7005c_compound"];
+    let not_asserted =
+        |s: &Signal| s.truth.contains(&FaultType::RollingElement) || s.id == "sim_h7005c_none";
+    let mut checked = 0;
+    for s in signals().iter().filter(|s| !not_asserted(s)) {
+        for kurtogram in [false, true] {
+            let v = verdict_of(s, kurtogram);
+            let method = if kurtogram { "kurtogram" } else { "dtcwt" };
+            let named = sorted(v.faults.clone());
+            if known_short.contains(&s.id.as_str()) {
+                assert!(
+                    named.iter().all(|f| s.truth.contains(f)),
+                    "{} ({method}): named {named:?}, truth {:?}",
+                    s.id,
+                    s.truth
+                );
+                continue;
+            }
+            assert_eq!(named, sorted(s.truth.clone()), "{} ({method})", s.id);
+            // each named type rests on a series, not on one line: at least two of its
+            // first four harmonics rank high (p <= 0.05), spaced within 0.5 %
+            for f in &v.faults {
+                let e = v.evidence.iter().find(|e| e.fault == *f).unwrap();
+                assert!(
+                    e.indicated && e.p_value < v.false_alarm_rate,
+                    "{}: {e:?}",
+                    s.id
+                );
+                assert!(e.harmonics_found >= 2, "{} ({method}): {e:?}", s.id);
+                assert!(e.spacing_error_pct.unwrap() < 0.5, "{}: {e:?}", s.id);
+            }
+            checked += 1;
+        }
+    }
+    // 9 CWRU (normal, IR x4, OR x4 without OR014) + synthetic + 2 simulated, two methods
+    assert_eq!(checked, 2 * 11);
+}
+
+#[test]
+fn the_fundamental_found_is_the_fault_line_within_one_percent() {
+    // CWRU: the hand-written rpm is a few tenths of a percent off (BPFI -0.3 %, BPFO +0.3 %
+    // as peers find); the simulations' slip moves BPFO/BPFI by < 0.3 %. 1 % bounds both.
+    for s in signals()
+        .iter()
+        .filter(|s| s.id.contains("ir0") || s.id.contains("or0"))
+    {
+        if s.id == "cwru_or014c_0hp_12k_de" {
+            continue;
+        }
+        let v = verdict_of(s, false);
+        let e = v.evidence.iter().find(|e| e.fault == v.faults[0]).unwrap();
+        assert!(e.error_pct.unwrap().abs() < 1.0, "{}: {e:?}", s.id);
+    }
+}
