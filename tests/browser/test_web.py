@@ -136,6 +136,9 @@ def run(page, base, shots, console_errors):
         expect(page.locator('#ids-raw tr[data-line="BPFI"][data-detected="true"]').first).to_be_visible()
         # the kurtogram's band is reported too (there BPFI reads 11.3 dB, under the threshold)
         expect(page.locator('#ids-kurtogram tr[data-line="BPFI"]').first).to_be_visible()
+        # and the verdict names the inner race, with its evidence table
+        expect(page.locator("#summary")).to_contain_text("inner race")
+        expect(page.locator("#verdict")).to_contain_text("rolling element")
 
     def cancel_a_running_job():
         submit_form(page, base, 0.5)
@@ -204,7 +207,7 @@ def run(page, base, shots, console_errors):
     check("switch the spectrum to the best component", switch_to_best_component)
     check("zoom the time signal", zoom_the_time_signal)
     check("a bad scene's error next to its field", bad_scene_error_next_to_its_field)
-    check("a CWRU inner-race excerpt: BPFI identified", cwru_upload_identifies_bpfi)
+    check("a CWRU inner-race excerpt: BPFI identified, verdict inner race", cwru_upload_identifies_bpfi)
     check("cancel a running job", cancel_a_running_job)
     check("the job list", the_jobs_list)
     check("a study's table and trend plots", a_study_table_and_its_trend_plots)

@@ -357,8 +357,22 @@ function renderResult(kind, id, result, box) {
     card("BPFO simulated / theory", `${fmt(result.frequencies.simulated.bpfo)} / ${fmt(result.frequencies.nominal.bpfo)} Hz (${fmt(result.frequencies.bpfo_error_pct)} %)`);
     card("BPFI simulated / theory", `${fmt(result.frequencies.simulated.bpfi)} / ${fmt(result.frequencies.nominal.bpfi)} Hz (${fmt(result.frequencies.bpfi_error_pct)} %)`);
   }
+  const FAULT = { outer_race: "outer race", inner_race: "inner race", rolling_element: "rolling element", cage: "cage" };
+  if (a && a.verdict) {
+    const v = a.verdict;
+    card("Verdict", v.faults.length ? v.faults.map((f) => FAULT[f] ?? f).join(" + ") : "no fault indicated");
+  }
   box.append(cards);
   if (!a) { box.append(h("p", { class: "muted" }, result.analysis_error || "No analysis.")); return; }
+  if (a.verdict) {
+    const v = a.verdict;
+    const rows = v.evidence.map((e) => h("tr", {},
+      h("td", {}, FAULT[e.fault] ?? e.fault), h("td", {}, e.indicated ? "yes" : "no"), h("td", {}, e.p_value.toExponential(1)),
+      h("td", {}, e.spectrum), h("td", {}, `${e.harmonics_found}/${e.harmonics_searched}`),
+      h("td", {}, e.fundamental_hz == null ? "-" : `${fmt(e.fundamental_hz)} Hz (${fmt(e.error_pct)} %)`)));
+    box.append(h("div", { class: "plot", id: "verdict" }, h("h3", {}, `Verdict (false-alarm rate ${v.false_alarm_rate} per type)`),
+      h("table", {}, h("thead", {}, h("tr", {}, ...["fault type", "indicated", "p", "spectrum", "harmonics found", "fundamental"].map((t) => h("th", {}, t)))), h("tbody", {}, ...rows))));
+  }
   box.append(idTable("Identified in the raw envelope spectrum", a.raw, "ids-raw"),
     idTable(`Identified in the best DTCWT component (level ${a.best_component.level}, kurtosis ${fmt(a.best_component.kurtosis)})`, a.best_component.identifications, "ids-best"));
   if (a.kurtogram) {
