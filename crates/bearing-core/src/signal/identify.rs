@@ -153,6 +153,26 @@ pub fn local_median(s: &Spectrum, center_hz: f64) -> f64 {
     }
 }
 
+/// Sub-bin frequency of the local maximum at bin `k` (`1 <= k < len - 1`), Hz: the Hann
+/// ratio interpolation of the module documentation, step 3.
+pub fn interpolated_frequency(s: &Spectrum, k: usize) -> f64 {
+    let a = &s.amplitude;
+    let (am, a0, ap) = (a[k - 1], a[k], a[k + 1]);
+    let delta = if a0 > 0.0 {
+        let d = if ap >= am {
+            let r = ap / a0;
+            (2.0 * r - 1.0) / (r + 1.0)
+        } else {
+            let r = am / a0;
+            -(2.0 * r - 1.0) / (r + 1.0)
+        };
+        d.clamp(-0.5, 0.5)
+    } else {
+        0.0
+    };
+    (k as f64 + delta) * s.df
+}
+
 /// Largest peak within `[lo_hz, hi_hz]`, prominence measured against the local median around
 /// `center_hz`. `None` if the band lies outside the spectrum (beyond Nyquist or below DC).
 pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option<Peak> {
@@ -178,18 +198,6 @@ pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option
         }
     }
     let (am, a0, ap) = (a[k - 1], a[k], a[k + 1]);
-    let delta = if a0 > 0.0 {
-        let d = if ap >= am {
-            let r = ap / a0;
-            (2.0 * r - 1.0) / (r + 1.0)
-        } else {
-            let r = am / a0;
-            -(2.0 * r - 1.0) / (r + 1.0)
-        };
-        d.clamp(-0.5, 0.5)
-    } else {
-        0.0
-    };
     let median = local_median(s, center_hz);
     let prominence_db = if median > 0.0 && a0 > 0.0 {
         20.0 * (a0 / median).log10()
@@ -200,7 +208,7 @@ pub fn find_peak(s: &Spectrum, lo_hz: f64, hi_hz: f64, center_hz: f64) -> Option
     };
     Some(Peak {
         bin: k,
-        frequency_hz: (k as f64 + delta) * s.df,
+        frequency_hz: interpolated_frequency(s, k),
         amplitude: a0,
         prominence_db,
         interior: k > k0 && k < k1 && a0 > am && a0 > ap,

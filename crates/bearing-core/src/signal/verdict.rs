@@ -42,7 +42,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::frequencies::CharacteristicFrequencies;
-use super::identify::local_median;
+use super::identify::{interpolated_frequency, local_median};
 use super::spectrum::Spectrum;
 
 /// Harmonics of each fault family the verdict uses (`N`; the rolling-element family uses
@@ -242,18 +242,9 @@ impl<'a> RankedLines<'a> {
         None
     }
 
-    /// Sub-bin frequency of peak bin `k` (the ratio interpolation of `identify`).
+    /// Sub-bin frequency of peak bin `k`, Hz.
     fn frequency(&self, k: usize) -> f64 {
-        let a = &self.spectrum.amplitude;
-        let (am, a0, ap) = (a[k - 1], a[k], a[k + 1]);
-        let d = if ap >= am {
-            let r = ap / a0;
-            (2.0 * r - 1.0) / (r + 1.0)
-        } else {
-            let r = am / a0;
-            -(2.0 * r - 1.0) / (r + 1.0)
-        };
-        (k as f64 + d.clamp(-0.5, 0.5)) * self.df()
+        interpolated_frequency(self.spectrum, k)
     }
 }
 
