@@ -10,20 +10,33 @@
 
 use std::sync::Arc;
 
-use realfft::{RealFftPlanner, RealToComplex};
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
 
 /// Planned transforms and buffers for signals of one length; reuse it across signals.
+///
+/// Both parts of the analytic signal are real, so each is one inverse *real* FFT of the
+/// half spectrum: `Re z = IFFT(H X)` is `x` itself without a band (no transform at all), and
+/// `Im z = IFFT(-j H X)` with the DC and Nyquist bins zeroed (they are real). A real inverse
+/// FFT of `n` points runs a complex FFT of `n / 2`: against one complex inverse of `n`
+/// points this halves the transform's work and its buffers (a 2^20-sample record needed
+/// 25 MB of twiddles and 32 MB of complex buffers for it).
 pub struct HilbertPlan {
     n: usize,
-    r2c: Arc<dyn RealToComplex<f64>>,
-    ifft: Arc<dyn Fft<f64>>,
-    input: Vec<f64>,
-    half: Vec<Complex64>,
-    full: Vec<Complex64>,
-    scratch_r2c: Vec<Complex64>,
-    scratch_fft: Vec<Complex64>,
+    pub(super) r2c: Arc<dyn RealToComplex<f64>>,
+    c2r: Arc<dyn ComplexToReal<f64>>,
+    /// Forward transform's input; free after [`Self::compute_envelope`].
+    pub(super) input: Vec<f64>,
+    /// Forward transform's output (then the inverse's input); free after
+    /// [`Self::compute_envelope`].
+    pub(super) half: Vec<Complex64>,
+    work: Vec<Complex64>,
+    re: Vec<f64>,
+    /// Imaginary part of the analytic signal; the envelope after
+    /// [`Self::compute_envelope`].
+    pub(super) im: Vec<f64>,
+    /// One scratch buffer for both transforms (they never run at once).
+    pub(super) scratch: Vec<Complex64>,
 }
 
 impl HilbertPlan {
@@ -36,16 +49,20 @@ impl HilbertPlan {
     /// Plan around an existing forward real FFT (shared with other users of the same length).
     pub fn with_forward(r2c: Arc<dyn RealToComplex<f64>>) -> Self {
         let n = r2c.len();
-        let ifft = FftPlanner::<f64>::new().plan_fft_inverse(n);
+        let c2r = RealFftPlanner::<f64>::new().plan_fft_inverse(n);
         HilbertPlan {
             n,
             input: r2c.make_input_vec(),
             half: r2c.make_output_vec(),
-            scratch_r2c: r2c.make_scratch_vec(),
-            full: vec![Complex64::new(0.0, 0.0); n],
-            scratch_fft: vec![Complex64::new(0.0, 0.0); ifft.get_inplace_scratch_len()],
+            work: Vec::new(),
+            re: Vec::new(),
+            im: c2r.make_output_vec(),
+            scratch: vec![
+                Complex64::new(0.0, 0.0);
+                r2c.get_scratch_len().max(c2r.get_scratch_len())
+            ],
             r2c,
-            ifft,
+            c2r,
         }
     }
 
@@ -59,14 +76,20 @@ impl HilbertPlan {
         self.n == 0
     }
 
-    /// Analytic signal of `x` (length `len()`), optionally band-passed to `band = [f0, f1]` Hz
-    /// at sample rate `fs` Hz. The result lives in the plan until the next call.
-    pub fn analytic(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>) -> &[Complex64] {
+    /// Real and imaginary parts of the analytic signal of `x` (length `len()`), optionally
+    /// band-passed to `band = [f0, f1]` Hz at sample rate `fs` Hz. They live in the plan
+    /// until the next call; without a band the real part is `x` itself.
+    fn parts<'a>(
+        &'a mut self,
+        x: &'a [f64],
+        fs: f64,
+        band: Option<[f64; 2]>,
+    ) -> (&'a [f64], &'a [f64]) {
         let n = self.n;
         assert_eq!(x.len(), n, "signal length differs from the plan");
         self.input.copy_from_slice(x);
         self.r2c
-            .process_with_scratch(&mut self.input, &mut self.half, &mut self.scratch_r2c)
+            .process_with_scratch(&mut self.input, &mut self.half, &mut self.scratch)
             .expect("buffer sizes come from the plan");
         let df = fs / n as f64;
         let keep = |k: usize| {
@@ -75,27 +98,60 @@ impl HilbertPlan {
             })
         };
         let scale = 1.0 / n as f64;
-        self.full
-            .iter_mut()
-            .for_each(|c| *c = Complex64::new(0.0, 0.0));
-        for (k, h) in self.half.iter().enumerate() {
-            if !keep(k) {
-                continue;
+        let last = self.half.len() - 1;
+        let nyquist = n % 2 == 0;
+        // real part: the band-passed signal (x itself without a band)
+        if band.is_some() {
+            // the half spectrum is needed twice: work on a copy (allocated on first use)
+            self.work.resize(self.half.len(), Complex64::new(0.0, 0.0));
+            for (k, (w, h)) in self.work.iter_mut().zip(&self.half).enumerate() {
+                *w = if keep(k) {
+                    h * scale
+                } else {
+                    Complex64::new(0.0, 0.0)
+                };
             }
-            // DC and (even n) Nyquist are their own mirror images: weight 1; others 2.
-            let w = if k == 0 || (n % 2 == 0 && k == n / 2) {
-                1.0
-            } else {
-                2.0
-            };
-            self.full[k] = h * (w * scale);
+            // DC and Nyquist of a real signal are real
+            self.work[0].im = 0.0;
+            if nyquist {
+                self.work[last].im = 0.0;
+            }
+            self.re.resize(n, 0.0);
+            self.c2r
+                .process_with_scratch(&mut self.work, &mut self.re, &mut self.scratch)
+                .expect("buffer sizes come from the plan");
         }
-        self.ifft
-            .process_with_scratch(&mut self.full, &mut self.scratch_fft);
-        &self.full
+        // imaginary part: -j X on the positive frequencies, DC and Nyquist zero; in place,
+        // the half spectrum is not needed again
+        for (k, h) in self.half.iter_mut().enumerate() {
+            *h = if keep(k) {
+                Complex64::new(h.im * scale, -h.re * scale)
+            } else {
+                Complex64::new(0.0, 0.0)
+            };
+        }
+        self.half[0] = Complex64::new(0.0, 0.0);
+        if nyquist {
+            self.half[last] = Complex64::new(0.0, 0.0);
+        }
+        self.c2r
+            .process_with_scratch(&mut self.half, &mut self.im, &mut self.scratch)
+            .expect("buffer sizes come from the plan");
+        let re: &[f64] = if band.is_some() { &self.re } else { x };
+        (re, &self.im)
     }
 
-    /// Envelope `|z|` of `x` (see [`Self::analytic`]) written into `out` (resized to `len()`).
+    /// Analytic signal of `x` (see [`Self::envelope_into`] for `fs` and `band`).
+    pub fn analytic(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>) -> Vec<Complex64> {
+        let (re, im) = self.parts(x, fs, band);
+        re.iter()
+            .zip(im)
+            .map(|(&r, &i)| Complex64::new(r, i))
+            .collect()
+    }
+
+    /// Envelope `|z|` of `x` written into `out` (resized to `len()`), `z` the analytic signal,
+    /// optionally band-passed to `band = [f0, f1]` Hz at sample rate `fs` Hz.
     pub fn envelope_into(
         &mut self,
         x: &[f64],
@@ -103,9 +159,21 @@ impl HilbertPlan {
         band: Option<[f64; 2]>,
         out: &mut Vec<f64>,
     ) {
-        let z = self.analytic(x, fs, band);
+        self.compute_envelope(x, fs, band);
         out.clear();
-        out.extend(z.iter().map(|c| c.norm()));
+        out.extend_from_slice(&self.im);
+    }
+
+    /// The envelope as [`Self::envelope_into`] computes it, left in `self.im` (no copy;
+    /// valid until the next call).
+    pub(super) fn compute_envelope(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>) {
+        self.parts(x, fs, band);
+        let re: &[f64] = if band.is_some() { &self.re } else { x };
+        // sqrt(re^2 + im^2): no overflow is possible at signal amplitudes, so libm's
+        // hypot (a tenth of the whole analysis's instructions) is not needed
+        for (i, r) in self.im.iter_mut().zip(re) {
+            *i = (r * r + *i * *i).sqrt();
+        }
     }
 }
 
@@ -114,12 +182,17 @@ pub fn analytic_signal(x: &[f64]) -> Vec<Complex64> {
     if x.is_empty() {
         return Vec::new();
     }
-    HilbertPlan::new(x.len()).analytic(x, 1.0, None).to_vec()
+    HilbertPlan::new(x.len()).analytic(x, 1.0, None)
 }
 
 /// Envelope `|analytic(x)|`.
 pub fn envelope(x: &[f64]) -> Vec<f64> {
-    analytic_signal(x).iter().map(|c| c.norm()).collect()
+    if x.is_empty() {
+        return Vec::new();
+    }
+    let mut out = Vec::new();
+    HilbertPlan::new(x.len()).envelope_into(x, 1.0, None, &mut out);
+    out
 }
 
 #[cfg(test)]

@@ -72,9 +72,7 @@ impl SpectrumPlan {
     pub fn with_forward(r2c: Arc<dyn RealToComplex<f64>>) -> Self {
         let n = r2c.len();
         assert!(n >= 2, "a spectrum needs at least two samples");
-        let window: Vec<f64> = (0..n)
-            .map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos()))
-            .collect();
+        let window = hann(n);
         let window_sum = window.iter().sum();
         SpectrumPlan {
             n,
@@ -98,19 +96,7 @@ impl SpectrumPlan {
         self.r2c
             .process_with_scratch(&mut self.input, &mut self.output, &mut self.scratch)
             .expect("buffer sizes come from the plan");
-        let amplitude = self
-            .output
-            .iter()
-            .enumerate()
-            .map(|(k, c)| {
-                let single = if k == 0 || (n % 2 == 0 && k == n / 2) {
-                    1.0
-                } else {
-                    2.0
-                };
-                single * c.norm() / self.window_sum
-            })
-            .collect();
+        let amplitude = single_sided(&self.output, n, self.window_sum);
         Spectrum {
             df: fs / n as f64,
             amplitude,
@@ -118,36 +104,69 @@ impl SpectrumPlan {
     }
 }
 
-/// Envelope spectra of records of one length, transforms planned once and buffers reused.
+/// Periodic Hann window of `n` samples, `0.5 (1 - cos(2 pi i / n))`.
+fn hann(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| 0.5 * (1.0 - (2.0 * std::f64::consts::PI * i as f64 / n as f64).cos()))
+        .collect()
+}
+
+/// Single-sided amplitudes of the half spectrum `c` of `n` windowed samples (module docs).
+fn single_sided(c: &[Complex64], n: usize, window_sum: f64) -> Vec<f64> {
+    c.iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let single = if k == 0 || (n % 2 == 0 && k == n / 2) {
+                1.0
+            } else {
+                2.0
+            };
+            // sqrt(re^2 + im^2), not hypot: no overflow at these magnitudes, and faster
+            single * (c.re * c.re + c.im * c.im).sqrt() / window_sum
+        })
+        .collect()
+}
+
+/// Envelope spectra of records of one length, transforms planned once and buffers reused:
+/// the spectrum of the envelope runs through the Hilbert plan's own forward transform and
+/// buffers (one set of `n`-sized buffers, not two).
 pub struct EnvelopeSpectrumPlan {
     hilbert: HilbertPlan,
-    spectrum: SpectrumPlan,
-    envelope: Vec<f64>,
+    window: Vec<f64>,
+    window_sum: f64,
 }
 
 impl EnvelopeSpectrumPlan {
     /// Plan for records of `n >= 2` samples.
     pub fn new(n: usize) -> Self {
         assert!(n >= 2, "a spectrum needs at least two samples");
-        // one forward plan serves both the analytic signal and the spectrum of the envelope
         let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
+        let window = hann(n);
         EnvelopeSpectrumPlan {
-            hilbert: HilbertPlan::with_forward(r2c.clone()),
-            spectrum: SpectrumPlan::with_forward(r2c),
-            envelope: Vec::with_capacity(n),
+            hilbert: HilbertPlan::with_forward(r2c),
+            window_sum: window.iter().sum(),
+            window,
         }
     }
 
     /// Envelope spectrum of `x` sampled at `fs` Hz, the envelope optionally taken from the
     /// band `[f0, f1]` Hz only.
     pub fn compute(&mut self, x: &[f64], fs: f64, band: Option<[f64; 2]>) -> Spectrum {
-        self.hilbert.envelope_into(x, fs, band, &mut self.envelope);
-        self.spectrum.amplitude(&self.envelope, fs)
-    }
-
-    /// The envelope computed by the last [`Self::compute`].
-    pub fn last_envelope(&self) -> &[f64] {
-        &self.envelope
+        let n = x.len();
+        self.hilbert.compute_envelope(x, fs, band);
+        let h = &mut self.hilbert;
+        let mean = h.im.iter().sum::<f64>() / n as f64;
+        // the forward transform's buffers are free again: window the envelope into them
+        for ((d, v), w) in h.input.iter_mut().zip(&h.im).zip(&self.window) {
+            *d = (v - mean) * w;
+        }
+        h.r2c
+            .process_with_scratch(&mut h.input, &mut h.half, &mut h.scratch)
+            .expect("buffer sizes come from the plan");
+        Spectrum {
+            df: fs / n as f64,
+            amplitude: single_sided(&h.half, n, self.window_sum),
+        }
     }
 }
 
