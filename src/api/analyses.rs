@@ -200,7 +200,7 @@ pub async fn submit(
         .best_component
         .level
         .checked_sub(1)
-        .and_then(|i| out.level_spectra.into_iter().nth(i));
+        .and_then(|i| out.level_spectra.into_iter().nth(i).flatten());
     Ok(Json(DirectAnalysis {
         state: DirectState::Succeeded,
         analysis: out.report,

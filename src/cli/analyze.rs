@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use bearing_core::signal::io::{read_signal, SignalFormat};
 use bearing_core::signal::{
-    analyze, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
+    analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
+    LevelSpectra,
 };
 use serde::{Deserialize, Serialize};
 
@@ -130,7 +131,7 @@ fn load_bearing(spec: &str) -> Result<KinematicGeometry, String> {
 struct SpectraFile<'a> {
     raw: &'a bearing_core::signal::Spectrum,
     /// index 0 = level 1
-    levels: &'a [bearing_core::signal::Spectrum],
+    levels: &'a [Option<bearing_core::signal::Spectrum>],
 }
 
 pub fn main(args: AnalyzeArgs) -> CliResult {
@@ -159,8 +160,22 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         kurtogram_levels: args.kurtogram_levels,
         false_alarm_rate: args.false_alarm_rate,
     };
-    let out = analyze(&samples, args.fs, &geometry, args.rpm / 60.0, &opts)
-        .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    // the report reads the best two levels' spectra; all are kept only to be written out
+    let spectra = if args.spectra_out.is_some() {
+        LevelSpectra::All
+    } else {
+        LevelSpectra::Chosen
+    };
+    let out = analyze_with(
+        &samples,
+        args.fs,
+        &geometry,
+        args.rpm / 60.0,
+        &opts,
+        None,
+        spectra,
+    )
+    .map_err(|e| format!("{}: {e}", args.file.display()))?;
     if let Some(path) = &args.spectra_out {
         let f = SpectraFile {
             raw: &out.raw_spectrum,

@@ -106,11 +106,15 @@ fn run_scene(scene: &ValidScene, budget: Option<Duration>) -> Ran {
         }
     };
     let level = out.report.best_component.level;
-    let spectrum = out.level_spectra.get(level - 1).map(|s| PointSpectrum {
-        df: s.df,
-        amplitude: s.amplitude.clone(),
-        level,
-    });
+    let spectrum = out
+        .level_spectra
+        .get(level - 1)
+        .and_then(Option::as_ref)
+        .map(|s| PointSpectrum {
+            df: s.df,
+            amplitude: s.amplitude.clone(),
+            level,
+        });
     let s = &result.summary;
     Ran {
         digest: Ok(RunDigest {

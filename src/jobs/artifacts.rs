@@ -48,7 +48,9 @@ pub fn spectrum_artifacts(out: &AnalysisOutput) -> Vec<Artifact> {
     };
     let mut v = vec![spectrum(spectrum_artifact_name(None), &out.raw_spectrum)];
     for (i, s) in out.level_spectra.iter().enumerate() {
-        v.push(spectrum(spectrum_artifact_name(Some(i + 1)), s));
+        if let Some(s) = s {
+            v.push(spectrum(spectrum_artifact_name(Some(i + 1)), s));
+        }
     }
     v
 }

@@ -164,8 +164,19 @@ pub struct AnalysisOutput {
     pub report: AnalysisReport,
     /// Envelope spectrum of the windowed (optionally band-passed) signal.
     pub raw_spectrum: Spectrum,
-    /// Envelope spectrum of each level's component, index 0 = level 1.
-    pub level_spectra: Vec<Spectrum>,
+    /// Envelope spectrum of each level's component, index 0 = level 1; `None` for the levels
+    /// whose spectrum was not kept ([`LevelSpectra::Chosen`]).
+    pub level_spectra: Vec<Option<Spectrum>>,
+}
+
+/// Which level spectra an analysis keeps in its [`AnalysisOutput`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LevelSpectra {
+    /// Every level's (a service that serves any level's spectrum).
+    All,
+    /// Only those the report reads: the best and runner-up levels' (every level's when
+    /// `report_all_levels` is set). Saves `levels - 2` spectra of `n / 2` values.
+    Chosen,
 }
 
 /// Why an analysis could not run. Messages start with the offending input.
@@ -231,8 +242,7 @@ pub fn analyze(
     analyze_cancellable(signal, fs, geometry, shaft_hz, opts, None)
 }
 
-/// [`analyze`], stopping with [`AnalysisError::Cancelled`] soon after `cancel` is set
-/// (it is checked between levels, so within one level's transform and spectrum).
+/// [`analyze_cancellable`] keeping every level's spectrum.
 pub fn analyze_cancellable(
     signal: &[f64],
     fs: f64,
@@ -240,6 +250,29 @@ pub fn analyze_cancellable(
     shaft_hz: f64,
     opts: &AnalysisOptions,
     cancel: Option<&AtomicBool>,
+) -> Result<AnalysisOutput, AnalysisError> {
+    analyze_with(
+        signal,
+        fs,
+        geometry,
+        shaft_hz,
+        opts,
+        cancel,
+        LevelSpectra::All,
+    )
+}
+
+/// [`analyze`], stopping with [`AnalysisError::Cancelled`] soon after `cancel` is set
+/// (it is checked between levels, so within one level's transform and spectrum), keeping
+/// the level spectra `spectra` asks for.
+pub fn analyze_with(
+    signal: &[f64],
+    fs: f64,
+    geometry: &KinematicGeometry,
+    shaft_hz: f64,
+    opts: &AnalysisOptions,
+    cancel: Option<&AtomicBool>,
+    spectra: LevelSpectra,
 ) -> Result<AnalysisOutput, AnalysisError> {
     let check = || match cancel {
         Some(c) if c.load(Ordering::Relaxed) => Err(AnalysisError::Cancelled),
@@ -275,26 +308,61 @@ pub fn analyze_cancellable(
     check()?;
     let transform = Dtcwt1d::new(&opts.biort, &opts.qshift)?;
     let pyramid = transform.forward(x, opts.levels)?;
-    let mut plan = EnvelopeSpectrumPlan::new(x.len());
-    let raw_spectrum = plan.compute(x, fs, opts.band);
-    // One level's full-length component at a time: its kurtosis and envelope spectrum
-    // are all that is kept (holding every component took levels x n x 8 bytes, 384 MB
-    // for 3e6 samples at 16 levels).
     let mut level_kurtosis: Vec<f64> = Vec::with_capacity(opts.levels);
-    let mut level_spectra: Vec<Spectrum> = Vec::with_capacity(opts.levels);
-    for l in 1..=opts.levels {
-        check()?;
-        let component = transform.level_component(&pyramid, l);
-        level_kurtosis.push(kurtosis(&component));
-        level_spectra.push(plan.compute(&component, fs, None));
-    }
-    drop(pyramid);
+    let mut level_spectra: Vec<Option<Spectrum>> = vec![None; opts.levels];
+    let keep_all = spectra == LevelSpectra::All || opts.report_all_levels;
+    let (mut plan, raw_spectrum) = if keep_all {
+        // One level's full-length component at a time: its kurtosis and envelope spectrum
+        // are all that is kept (holding every component took levels x n x 8 bytes, 384 MB
+        // for 3e6 samples at 16 levels).
+        let mut plan = EnvelopeSpectrumPlan::new(x.len());
+        let raw_spectrum = plan.compute(x, fs, opts.band);
+        for l in 1..=opts.levels {
+            check()?;
+            let component = transform.level_component(&pyramid, l);
+            level_kurtosis.push(kurtosis(&component));
+            level_spectra[l - 1] = Some(plan.compute(&component, fs, None));
+        }
+        drop(pyramid);
+        (plan, raw_spectrum)
+    } else {
+        // Only the two components of largest kurtosis are read further: keep those two,
+        // drop the transform, and only then plan the spectra (the plan's buffers and the
+        // pyramid are never held at once; 2^20 samples peaked at 129 MB, now under 100).
+        let mut kept: Vec<(usize, Vec<f64>)> = Vec::with_capacity(3);
+        for l in 1..=opts.levels {
+            check()?;
+            let component = transform.level_component(&pyramid, l);
+            level_kurtosis.push(kurtosis(&component));
+            kept.push((l - 1, component));
+            // the order the report uses: kurtosis descending, ties to the lower level
+            kept.sort_by(|a, b| {
+                level_kurtosis[b.0]
+                    .total_cmp(&level_kurtosis[a.0])
+                    .then(a.0.cmp(&b.0))
+            });
+            kept.truncate(2);
+        }
+        drop(pyramid);
+        let mut plan = EnvelopeSpectrumPlan::new(x.len());
+        let raw_spectrum = plan.compute(x, fs, opts.band);
+        for (i, component) in kept {
+            check()?;
+            level_spectra[i] = Some(plan.compute(&component, fs, None));
+        }
+        (plan, raw_spectrum)
+    };
 
     let mut order: Vec<usize> = (0..opts.levels).collect();
     order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
+    let level_spectrum = |idx: usize| -> &Spectrum {
+        level_spectra[idx]
+            .as_ref()
+            .expect("the best, runner-up (or, on request, every) level's spectrum is kept")
+    };
     let component_report = |idx: usize| {
-        let ids = identify(&level_spectra[idx], &theory, &id_opts);
-        let sidebands = bpfi_sidebands(&level_spectra[idx], &theory, &ids, &id_opts);
+        let ids = identify(level_spectrum(idx), &theory, &id_opts);
+        let sidebands = bpfi_sidebands(level_spectrum(idx), &theory, &ids, &id_opts);
         ComponentReport {
             level: idx + 1,
             kurtosis: level_kurtosis[idx],
@@ -341,7 +409,7 @@ pub fn analyze_cancellable(
     let level_candidate = |c: &ComponentReport| CandidateSpectrum {
         label: format!("level {}", c.level),
         band_hz: Some(c.band_hz),
-        spectrum: &level_spectra[c.level - 1],
+        spectrum: level_spectrum(c.level - 1),
     };
     // The verdict reads the raw spectrum and the band(s) of the band-selection method asked
     // for: the kurtogram's band when `kurtogram_levels` is given, else the two DTCWT
@@ -609,6 +677,41 @@ mod tests {
             .unwrap()
             .report;
         assert!(r.all_levels.is_empty());
+    }
+
+    #[test]
+    fn keeping_only_the_chosen_spectra_changes_nothing_in_the_report() {
+        // the same levels chosen, the same spectra read, the same verdict; only the
+        // unread levels' spectra are dropped
+        let x: Vec<f64> = (0..8192)
+            .map(|i| {
+                let t = i as f64 / 12_000.0;
+                ((i * 7919 % 1013) as f64 / 1013.0 - 0.5)
+                    + (-800.0 * (t * 107.3).fract() / 107.3).exp()
+                        * (2.0 * std::f64::consts::PI * 3000.0 * t).sin()
+            })
+            .collect();
+        let g = geometry();
+        let o = AnalysisOptions::default();
+        let all = analyze(&x, 12_000.0, &g, 29.93, &o).unwrap();
+        let chosen = analyze_with(&x, 12_000.0, &g, 29.93, &o, None, LevelSpectra::Chosen).unwrap();
+        assert_eq!(all.report, chosen.report);
+        assert!(all.level_spectra.iter().all(Option::is_some));
+        let kept: Vec<usize> = chosen
+            .level_spectra
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.as_ref().map(|_| i + 1))
+            .collect();
+        let mut want = vec![
+            chosen.report.best_component.level,
+            chosen.report.runner_up_component.level,
+        ];
+        want.sort();
+        assert_eq!(kept, want);
+        for l in kept {
+            assert_eq!(chosen.level_spectra[l - 1], all.level_spectra[l - 1]);
+        }
     }
 
     #[test]

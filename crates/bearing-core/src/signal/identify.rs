@@ -131,11 +131,16 @@ pub struct Peak {
     pub interior: bool,
 }
 
+/// Half-width of the local-median window around `center_hz`, Hz.
+pub fn median_half_width(s: &Spectrum, center_hz: f64) -> f64 {
+    (MEDIAN_HALF_WIDTH_FRACTION * center_hz).max(MEDIAN_MIN_HALF_BINS as f64 * s.df)
+}
+
 /// Median amplitude of bins in `[center - half, center + half]` Hz with the module's minimum
 /// width, DC excluded.
 pub fn local_median(s: &Spectrum, center_hz: f64) -> f64 {
     let last = s.len().saturating_sub(1);
-    let half = (MEDIAN_HALF_WIDTH_FRACTION * center_hz).max(MEDIAN_MIN_HALF_BINS as f64 * s.df);
+    let half = median_half_width(s, center_hz);
     let lo = (((center_hz - half) / s.df).ceil().max(1.0) as usize).min(last);
     let hi = (((center_hz + half) / s.df).floor().max(0.0) as usize).min(last);
     if hi < lo {

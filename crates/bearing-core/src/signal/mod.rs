@@ -26,8 +26,8 @@ pub mod spectrum;
 pub mod verdict;
 
 pub use analysis::{
-    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport, ComponentReport,
-    Identification, Sideband, Spectrum,
+    analyze, analyze_with, AnalysisError, AnalysisOptions, AnalysisOutput, AnalysisReport,
+    ComponentReport, Identification, LevelSpectra, Sideband, Spectrum,
 };
 pub use frequencies::{
     characteristic_frequencies, kinematic_preset, kinematic_preset_names,
