@@ -134,3 +134,28 @@ fn the_fundamental_found_is_the_fault_line_within_one_percent() {
         assert!(e.error_pct.unwrap().abs() < 1.0, "{}: {e:?}", s.id);
     }
 }
+
+#[test]
+fn per_line_flags_carry_the_verdict() {
+    // every identification of a named fault type says so, every other one not
+    let s = signals()
+        .into_iter()
+        .find(|s| s.id == "cwru_ir007_0hp_12k_de")
+        .unwrap();
+    let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
+    let g = kinematic_preset(&s.bearing).unwrap();
+    let r = analyze(&x, s.fs, &g, s.shaft_hz, &AnalysisOptions::default())
+        .unwrap()
+        .report;
+    let named = r.verdict.as_ref().unwrap().faults.clone();
+    assert_eq!(named, vec![FaultType::InnerRace]);
+    for ids in [
+        &r.raw,
+        &r.best_component.identifications,
+        &r.runner_up_component.identifications,
+    ] {
+        for id in ids {
+            assert_eq!(id.in_verdict, id.name == "BPFI", "{id:?}");
+        }
+    }
+}

@@ -139,6 +139,9 @@ def run(page, base, shots, console_errors):
         # and the verdict names the inner race, with its evidence table
         expect(page.locator("#summary")).to_contain_text("inner race")
         expect(page.locator("#verdict")).to_contain_text("rolling element")
+        # per-line flags carry it: the BPFI lines count for the named fault, BPFO lines not
+        expect(page.locator('#ids-raw tr[data-line="BPFI"][data-in-verdict="true"]').first).to_be_visible()
+        expect(page.locator('#ids-raw tr[data-line="BPFO"][data-in-verdict="true"]')).to_have_count(0)
 
     def cancel_a_running_job():
         submit_form(page, base, 0.5)

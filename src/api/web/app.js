@@ -390,11 +390,12 @@ function renderResult(kind, id, result, box) {
 function idTable(title, ids, tid) {
   return h("div", { class: "plot" }, h("h3", {}, title),
     h("table", { id: tid },
-      h("thead", {}, h("tr", {}, ["line", "harmonic", "theory (Hz)", "identified (Hz)", "error (%)", "prominence (dB)", "detected"].map((c, i) => h("th", { class: i > 1 && i < 6 ? "num" : "" }, c)))),
-      h("tbody", {}, ids.map((r) => h("tr", { "data-line": r.name, "data-detected": String(r.detected) },
+      h("thead", {}, h("tr", {}, ["line", "harmonic", "theory (Hz)", "identified (Hz)", "error (%)", "prominence (dB)", "detected", "fault named"].map((c, i) => h("th", { class: i > 1 && i < 6 ? "num" : "" }, c)))),
+      h("tbody", {}, ids.map((r) => h("tr", { "data-line": r.name, "data-detected": String(r.detected), "data-in-verdict": String(!!r.in_verdict) },
         h("td", {}, r.name), h("td", {}, r.harmonic), h("td", { class: "num" }, fmt(r.theory_hz)), h("td", { class: "num" }, fmt(r.identified_hz)),
         h("td", { class: "num" }, fmt(r.error_pct)), h("td", { class: "num" }, fmt(r.prominence_db)),
-        h("td", { class: r.detected ? "detected" : "muted" }, r.detected ? "yes" : "no"))))));
+        h("td", { class: r.detected ? "detected" : "muted" }, r.detected ? "yes" : "no"),
+        h("td", { class: r.in_verdict ? "detected" : "muted" }, r.in_verdict ? "yes" : "no"))))));
 }
 
 function signalPlot(id, result) {

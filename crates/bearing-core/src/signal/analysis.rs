@@ -14,7 +14,7 @@ use super::frequencies::{
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
 use super::kurtosis::kurtosis;
 use super::spectrum::EnvelopeSpectrumPlan;
-use super::verdict::{verdict, CandidateSpectrum, Verdict, DEFAULT_FALSE_ALARM_RATE};
+use super::verdict::{verdict, CandidateSpectrum, FaultType, Verdict, DEFAULT_FALSE_ALARM_RATE};
 
 pub use super::identify::{Identification, Sideband};
 pub use super::spectrum::Spectrum;
@@ -438,6 +438,29 @@ pub fn analyze_with(
         opts.search_band_pct,
         opts.false_alarm_rate,
     );
+    // per-line flags carry the verdict: which lines belong to a fault type it names
+    let named = |ids: &mut Vec<Identification>| {
+        for id in ids.iter_mut() {
+            id.in_verdict =
+                FaultType::of_line(&id.name).is_some_and(|f| verdict.faults.contains(&f));
+        }
+    };
+    let (mut raw, mut best_component, mut runner_up_component, mut all_levels, mut kurtogram) = (
+        raw,
+        best_component,
+        runner_up_component,
+        all_levels,
+        kurtogram,
+    );
+    named(&mut raw);
+    named(&mut best_component.identifications);
+    named(&mut runner_up_component.identifications);
+    for c in all_levels.iter_mut() {
+        named(&mut c.identifications);
+    }
+    if let Some(k) = kurtogram.as_mut() {
+        named(&mut k.identifications);
+    }
     let report = AnalysisReport {
         sample_rate: fs,
         n_samples: x.len(),

@@ -87,6 +87,11 @@ pub struct Identification {
     /// The other kinematic line nearer to the identified peak, if any (then not detected).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub nearer_line: Option<String>,
+    /// The line's fault type (BPFO: outer race, BPFI: inner race, BSF and 2xBSF: rolling
+    /// element, FTF: cage) is one the verdict names. `detected` answers whether the line
+    /// stands above the noise; this, whether the diagnosis counts it.
+    #[serde(default)]
+    pub in_verdict: bool,
 }
 
 /// A shaft-rate sideband around a BPFI harmonic.
@@ -303,6 +308,7 @@ pub fn identify(
                     && p.prominence_db >= opts.detection_threshold_db
                     && nearer_line.is_none(),
                 nearer_line,
+                in_verdict: false,
             });
         }
     }

@@ -91,6 +91,17 @@ impl FaultType {
         }
     }
 
+    /// The fault type a characteristic line belongs to: `BPFO`, `BPFI`, `BSF`/`2xBSF`, `FTF`.
+    pub fn of_line(name: &str) -> Option<FaultType> {
+        match name {
+            "BPFO" => Some(FaultType::OuterRace),
+            "BPFI" => Some(FaultType::InnerRace),
+            "BSF" | "2xBSF" => Some(FaultType::RollingElement),
+            "FTF" => Some(FaultType::Cage),
+            _ => None,
+        }
+    }
+
     fn theory_hz(self, t: &CharacteristicFrequencies) -> f64 {
         match self {
             FaultType::OuterRace => t.bpfo,
