@@ -242,7 +242,8 @@ pub fn analyze(
     analyze_cancellable(signal, fs, geometry, shaft_hz, opts, None)
 }
 
-/// [`analyze_cancellable`] keeping every level's spectrum.
+/// [`analyze`] that stops with [`AnalysisError::Cancelled`] soon after `cancel` is set:
+/// [`analyze_with`] keeping every level's spectrum (what a service that serves them needs).
 pub fn analyze_cancellable(
     signal: &[f64],
     fs: f64,
