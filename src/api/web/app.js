@@ -368,8 +368,8 @@ function renderResult(kind, id, result, box) {
     const v = a.verdict;
     const rows = v.evidence.map((e) => h("tr", {},
       h("td", {}, FAULT[e.fault] ?? e.fault), h("td", {}, e.indicated ? "yes" : "no"), h("td", {}, e.p_value.toExponential(1)),
-      h("td", {}, e.spectrum), h("td", {}, `${e.harmonics_found}/${e.harmonics_searched}`),
-      h("td", {}, e.fundamental_hz == null ? "-" : `${fmt(e.fundamental_hz)} Hz (${fmt(e.error_pct)} %)`)));
+      h("td", {}, e.spectrum), h("td", {}, e.harmonics_searched ? `${e.harmonics_found}/${e.harmonics_searched}` : "-"),
+      h("td", {}, e.fundamental_hz == null ? "no line in the search band" : `${fmt(e.fundamental_hz)} Hz (${fmt(e.error_pct)} %)`)));
     box.append(h("div", { class: "plot", id: "verdict" }, h("h3", {}, `Verdict (false-alarm rate ${v.false_alarm_rate} per type)`),
       h("table", {}, h("thead", {}, h("tr", {}, ...["fault type", "indicated", "p", "spectrum", "harmonics found", "fundamental"].map((t) => h("th", {}, t)))), h("tbody", {}, ...rows))));
   }
