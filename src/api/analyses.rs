@@ -314,6 +314,9 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     if let Some(p) = q.f64("false_alarm_rate")? {
         options.false_alarm_rate = p;
     }
+    if let Some(h) = q.get::<usize>("verdict_harmonics")? {
+        options.verdict_harmonics = h;
+    }
     let input = AnalysisInput {
         sample_rate,
         geometry,

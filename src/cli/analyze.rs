@@ -65,6 +65,9 @@ pub struct AnalyzeArgs {
     /// False-alarm rate of the fault verdict, per fault type (`verdict` in the report)
     #[arg(long, default_value_t = bearing_core::signal::verdict::DEFAULT_FALSE_ALARM_RATE)]
     pub false_alarm_rate: f64,
+    /// Harmonics of each fault family the verdict tests (2-20)
+    #[arg(long, default_value_t = bearing_core::signal::verdict::DEFAULT_VERDICT_HARMONICS)]
+    pub verdict_harmonics: usize,
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
@@ -159,6 +162,7 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         report_all_levels: args.all_levels,
         kurtogram_levels: args.kurtogram_levels,
         false_alarm_rate: args.false_alarm_rate,
+        verdict_harmonics: args.verdict_harmonics,
     };
     // the report reads the best two levels' spectra; all are kept only to be written out
     let spectra = if args.spectra_out.is_some() {

@@ -151,6 +151,9 @@ pub struct RawAnalysisQuery {
     /// (default 1e-3).
     #[param(exclusive_minimum = 0.0, maximum = 0.5)]
     pub false_alarm_rate: Option<f64>,
+    /// Raw body only; harmonics of each fault family the verdict tests (default 4).
+    #[param(minimum = 2, maximum = 20)]
+    pub verdict_harmonics: Option<usize>,
 }
 
 /// How an analysis request is answered.

@@ -15,7 +15,7 @@
 //!    shaft-rate sidebands `h BPFI +/- f_r` (the defect turns through the load zone); rolling
 //!    element `h BSF` for `h = 1..2N` (a ball defect strikes both races: 2xBSF and its
 //!    harmonics) with cage-rate sidebands `+/- FTF` (the ball turns with the cage); cage
-//!    `h FTF`. `N` = [`VERDICT_HARMONICS`].
+//!    `h FTF`. `N` = the option `verdict_harmonics` (default [`DEFAULT_VERDICT_HARMONICS`]).
 //! 3. **Anchor.** The best-ranked line within the search band (`search_band_pct`) around the
 //!    theoretical fundamental fixes the fundamental `f_1`: slip and a wrong speed move it,
 //!    but the harmonics then sit at `h f_1` within `1.5 df + 0.2 % h f_1` (spacing).
@@ -45,9 +45,10 @@ use super::frequencies::CharacteristicFrequencies;
 use super::identify::{interpolated_frequency, local_median, median_half_width};
 use super::spectrum::Spectrum;
 
-/// Harmonics of each fault family the verdict uses (`N`; the rolling-element family uses
-/// `2N` harmonics of BSF, i.e. `N` of 2xBSF).
-pub const VERDICT_HARMONICS: usize = 4;
+/// Default harmonics of each fault family the verdict uses (`N`; the rolling-element family
+/// uses `2N` harmonics of BSF, i.e. `N` of 2xBSF). docs/cwru.md shows what 3 to 10 give on
+/// the evaluation set.
+pub const DEFAULT_VERDICT_HARMONICS: usize = 4;
 
 /// Default false-alarm rate per fault type and analysis.
 pub const DEFAULT_FALSE_ALARM_RATE: f64 = 1e-3;
@@ -326,6 +327,7 @@ fn series(
     lines: &RankedLines,
     theory: &CharacteristicFrequencies,
     search_band_pct: f64,
+    n: usize,
 ) -> SeriesResult {
     let df = lines.df();
     let b = lines.bins.max(1) as f64;
@@ -342,9 +344,9 @@ fn series(
     };
     let f1 = lines.frequency(k1);
     let (n_harmonics, sideband_hz) = match fault {
-        FaultType::OuterRace | FaultType::Cage => (VERDICT_HARMONICS, None),
-        FaultType::InnerRace => (VERDICT_HARMONICS, Some(theory.shaft_hz)),
-        FaultType::RollingElement => (2 * VERDICT_HARMONICS, Some(theory.ftf * f1 / base)),
+        FaultType::OuterRace | FaultType::Cage => (n, None),
+        FaultType::InnerRace => (n, Some(theory.shaft_hz)),
+        FaultType::RollingElement => (2 * n, Some(theory.ftf * f1 / base)),
     };
     let f_max = lines.bins as f64 * df;
     let mut out = Vec::new();
@@ -416,8 +418,8 @@ fn explained_lines(
     f1: f64,
     theory: &CharacteristicFrequencies,
     ball_count: usize,
+    n: usize,
 ) -> Vec<f64> {
-    let n = VERDICT_HARMONICS;
     let fr = theory.shaft_hz;
     let z = ball_count.max(1) as f64;
     let mut v = Vec::new();
@@ -453,18 +455,31 @@ fn explained_lines(
     v
 }
 
+/// How the verdict tests (the analysis options of the same names).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VerdictSettings {
+    /// Half-width of the fundamental's search band, % of the theoretical frequency.
+    pub search_band_pct: f64,
+    /// Per fault type, -.
+    pub false_alarm_rate: f64,
+    /// Harmonics per family, `N`.
+    pub harmonics: usize,
+}
+
 /// The verdict over `spectra` for a bearing of `ball_count` balls with characteristic
-/// frequencies `theory`; `search_band_pct` is the half-width of the fundamental's search
-/// band, % (the analysis option), `false_alarm_rate` per fault type.
+/// frequencies `theory`.
 pub fn verdict(
     spectra: &[CandidateSpectrum],
     theory: &CharacteristicFrequencies,
     ball_count: usize,
-    search_band_pct: f64,
-    false_alarm_rate: f64,
+    settings: &VerdictSettings,
 ) -> Verdict {
-    let f_max =
-        (VERDICT_HARMONICS as f64 + 0.5) * theory.bpfi.max(theory.bpfo) + 2.5 * theory.shaft_hz;
+    let VerdictSettings {
+        search_band_pct,
+        false_alarm_rate,
+        harmonics: n,
+    } = *settings;
+    let f_max = (n as f64 + 0.5) * theory.bpfi.max(theory.bpfo) + 2.5 * theory.shaft_hz;
     let mut ranked: Vec<RankedLines> = spectra
         .iter()
         .map(|c| RankedLines::new(c.spectrum, f_max))
@@ -482,7 +497,7 @@ pub fn verdict(
             }
             let mut best: Option<(usize, SeriesResult)> = None;
             for (si, lines) in ranked.iter().enumerate() {
-                let r = series(fault, lines, theory, search_band_pct);
+                let r = series(fault, lines, theory, search_band_pct, n);
                 if best.as_ref().is_none_or(|(_, b)| r.p_value < b.p_value) {
                     best = Some((si, r));
                 }
@@ -503,7 +518,7 @@ pub fn verdict(
             let Some(f1) = ev.fundamental_hz else {
                 return 0;
             };
-            let set = explained_lines(fault, f1, theory, ball_count);
+            let set = explained_lines(fault, f1, theory, ball_count, n);
             ranked
                 .iter()
                 .map(|l| {
@@ -534,7 +549,13 @@ pub fn verdict(
         ev.indicated = true;
         evidence[fi] = Some(ev.clone());
         accepted.push(*fault);
-        let set = explained_lines(*fault, ev.fundamental_hz.unwrap_or(0.0), theory, ball_count);
+        let set = explained_lines(
+            *fault,
+            ev.fundamental_hz.unwrap_or(0.0),
+            theory,
+            ball_count,
+            n,
+        );
         for l in ranked.iter_mut() {
             let df = l.df();
             for (i, &k) in l.peaks.iter().enumerate() {
@@ -548,7 +569,7 @@ pub fn verdict(
     Verdict {
         faults: accepted,
         false_alarm_rate,
-        harmonics: VERDICT_HARMONICS,
+        harmonics: n,
         evidence: evidence.into_iter().flatten().collect(),
     }
 }
