@@ -8,7 +8,7 @@ use super::record::{AnalysisJobRecord, AnalysisRecord};
 use crate::store::blob::decode_f64le;
 use crate::store::FailureKind;
 use bearing_core::signal::analysis::{
-    analyze_cancellable, AnalysisError, AnalysisOptions, AnalysisOutput,
+    analyze_with, AnalysisError, AnalysisOptions, AnalysisOutput, LevelSpectra,
 };
 use bearing_core::signal::frequencies::KinematicGeometry;
 use serde::{Deserialize, Serialize};
@@ -32,13 +32,14 @@ pub fn run_analysis(
     samples: &[f64],
     cancel: Option<&AtomicBool>,
 ) -> Result<AnalysisOutput, AnalysisError> {
-    analyze_cancellable(
+    analyze_with(
         samples,
         input.sample_rate,
         &input.geometry,
         input.shaft_hz,
         &input.options,
         cancel,
+        LevelSpectra::All,
     )
 }
 

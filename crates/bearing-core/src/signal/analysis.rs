@@ -248,33 +248,21 @@ pub fn analyze(
     shaft_hz: f64,
     opts: &AnalysisOptions,
 ) -> Result<AnalysisOutput, AnalysisError> {
-    analyze_cancellable(signal, fs, geometry, shaft_hz, opts, None)
-}
-
-/// [`analyze`] that stops with [`AnalysisError::Cancelled`] soon after `cancel` is set:
-/// [`analyze_with`] keeping every level's spectrum (what a service that serves them needs).
-pub fn analyze_cancellable(
-    signal: &[f64],
-    fs: f64,
-    geometry: &KinematicGeometry,
-    shaft_hz: f64,
-    opts: &AnalysisOptions,
-    cancel: Option<&AtomicBool>,
-) -> Result<AnalysisOutput, AnalysisError> {
     analyze_with(
         signal,
         fs,
         geometry,
         shaft_hz,
         opts,
-        cancel,
+        None,
         LevelSpectra::All,
     )
 }
 
 /// [`analyze`], stopping with [`AnalysisError::Cancelled`] soon after `cancel` is set
 /// (it is checked between levels, so within one level's transform and spectrum), keeping
-/// the level spectra `spectra` asks for.
+/// the level spectra `spectra` asks for (a service that serves every level's spectrum
+/// wants [`LevelSpectra::All`]).
 pub fn analyze_with(
     signal: &[f64],
     fs: f64,
@@ -381,17 +369,17 @@ pub fn analyze_with(
             bpfi_sidebands: sidebands,
         }
     };
-    let best_component = component_report(order[0]);
+    let mut best_component = component_report(order[0]);
     // With a single level there is no runner-up: the best one is repeated.
-    let runner_up_component = component_report(*order.get(1).unwrap_or(&order[0]));
-    let all_levels = if opts.report_all_levels {
+    let mut runner_up_component = component_report(*order.get(1).unwrap_or(&order[0]));
+    let mut all_levels = if opts.report_all_levels {
         (0..opts.levels).map(component_report).collect()
     } else {
         Vec::new()
     };
 
     let mut kurtogram_spectrum = None;
-    let kurtogram = match opts.kurtogram_levels {
+    let mut kurtogram = match opts.kurtogram_levels {
         None => None,
         Some(levels) => {
             check()?;
@@ -414,7 +402,7 @@ pub fn analyze_with(
             })
         }
     };
-    let raw = identify(&raw_spectrum, &theory, &id_opts);
+    let mut raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
     let level_candidate = |c: &ComponentReport| CandidateSpectrum {
         label: format!("level {}", c.level),
@@ -458,13 +446,6 @@ pub fn analyze_with(
                 FaultType::of_line(&id.name).is_some_and(|f| verdict.faults.contains(&f));
         }
     };
-    let (mut raw, mut best_component, mut runner_up_component, mut all_levels, mut kurtogram) = (
-        raw,
-        best_component,
-        runner_up_component,
-        all_levels,
-        kurtogram,
-    );
     named(&mut raw);
     named(&mut best_component.identifications);
     named(&mut runner_up_component.identifications);
