@@ -113,18 +113,11 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
     let body = json!({"preset": "h7005c", "overrides": {"solver": {"duration": 10, "integrator": "rk4_fixed", "initial_step": 1e-12}}});
     let (st, h, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_problem(st, &h, &p, 422);
-    let paths = error_paths(&p);
-    assert_eq!(
-        paths,
-        ["scene.solver.duration", "scene.solver.initial_step"],
-        "{p}"
-    );
-    assert!(
-        p["errors"][0]["message"]
-            .as_str()
-            .unwrap()
-            .contains("--max-scene-evaluations"),
-        "{p}"
+    assert_errors_name(
+        &p,
+        &["scene.solver.duration", "scene.solver.initial_step"],
+        0,
+        "--max-scene-evaluations",
     );
     // an adaptive scene with a tiny max_step names that field instead
     let body =
@@ -150,18 +143,11 @@ async fn a_scene_over_the_cost_budget_is_refused_naming_its_fields() {
         "outputs": {"cage_speed": true, "inner_ring_displacement": true, "contact_loads_ball": 0}}});
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &body).await;
     assert_eq!(st, 422, "{p}");
-    let paths = error_paths(&p);
-    assert_eq!(
-        paths,
-        ["scene.solver.duration", "scene.solver.sample_rate"],
-        "{p}"
-    );
-    assert!(
-        p["errors"][1]["message"]
-            .as_str()
-            .unwrap()
-            .contains("--max-job-bytes"),
-        "{p}"
+    assert_errors_name(
+        &p,
+        &["scene.solver.duration", "scene.solver.sample_rate"],
+        1,
+        "--max-job-bytes",
     );
     // a normal scene is within the default budget
     let (st, _, p) = post_json(&c, &app.url("/v1/simulations"), &short_scene(0.5)).await;

@@ -236,6 +236,19 @@ pub fn error_paths(body: &Value) -> Vec<&str> {
         .collect()
 }
 
+/// A 422's `errors[]` names exactly `paths`, and error `index`'s message mentions `hint`
+/// (the flag that sets the limit, say).
+pub fn assert_errors_name(body: &Value, paths: &[&str], index: usize, hint: &str) {
+    assert_eq!(error_paths(body), paths, "{body}");
+    assert!(
+        body["errors"][index]["message"]
+            .as_str()
+            .unwrap()
+            .contains(hint),
+        "{body}"
+    );
+}
+
 /// Every problem response has the RFC 9457 members and content type.
 pub fn assert_problem(status: u16, headers: &reqwest::header::HeaderMap, body: &Value, want: u16) {
     assert_eq!(status, want, "{body}");
