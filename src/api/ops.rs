@@ -69,7 +69,7 @@ pub async fn metrics(State(state): State<AppState>) -> ApiResult<Response> {
     let stored = state.store.stored_bytes().await?;
     let text = state
         .metrics
-        .render(&by_state, stored, state.config.worker_count());
+        .render(&by_state, stored, state.config.worker.worker_count());
     Ok((
         [(
             header::CONTENT_TYPE,

@@ -236,7 +236,7 @@ impl From<StoreError> for Problem {
                 format!("this Idempotency-Key was used for a different request (job {id})"),
             ),
             e @ StoreError::LeaseLost => Problem::internal(e.to_string()),
-            e @ (StoreError::Db(_) | StoreError::Migrate(_)) => {
+            e @ (StoreError::Db(_) | StoreError::Migrate(_) | StoreError::Url(_)) => {
                 tracing::error!(error = %e, "store error");
                 Problem::internal("database error")
             }

@@ -1,7 +1,9 @@
 //! The `bearing-sim` command line: its subcommands and their dispatch.
 
 use super::result::CliResult;
-use super::{analyze, bench, quasi_static, run, scene_cmd, serve_cmd, study, token_cmd};
+use super::{
+    analyze, bench, quasi_static, run, scene_cmd, serve_cmd, study, token_cmd, worker_cmd,
+};
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -27,6 +29,8 @@ enum Command {
     Analyze(analyze::AnalyzeArgs),
     /// Run the HTTP service.
     Serve(serve_cmd::ServeArgs),
+    /// Run job workers only, on a database shared with API nodes (`serve --workers 0`).
+    Worker(worker_cmd::WorkerArgs),
     /// Make an API token: prints the token and the line for the service's --tokens-file.
     Token(token_cmd::TokenArgs),
     /// Time the engine and the analysis on this machine.
@@ -43,6 +47,7 @@ impl Cli {
             Command::Scene(a) => scene_cmd::main(a),
             Command::Analyze(a) => analyze::main(a),
             Command::Serve(a) => serve_cmd::main(a),
+            Command::Worker(a) => worker_cmd::main(a),
             Command::Token(a) => token_cmd::main(a),
             Command::Bench(a) => bench::main(a),
             Command::Study(a) => study::main(a),

@@ -15,6 +15,7 @@ pub mod serve_cmd;
 pub mod study;
 mod study_plan;
 mod token_cmd;
+mod worker_cmd;
 
 pub use command::Cli;
 pub use result::CliResult;

@@ -21,8 +21,8 @@ pub fn main(args: ServeArgs) -> CliResult {
     if args.probe {
         return probe(config.bind);
     }
-    init_logging(&config.log_format);
-    let workers = config.worker_count();
+    init_logging(&config.worker.log_format);
+    let workers = config.worker.worker_count();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         // Engine runs are bounded by the worker pool and direct computations by their own
@@ -39,11 +39,13 @@ pub fn main(args: ServeArgs) -> CliResult {
     })
 }
 
-fn init_logging(format: &str) {
+pub(super) fn init_logging(format: &str) {
     let filter = tracing_subscriber::EnvFilter::try_from_env("BEARING_SIM_LOG")
         .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info,sqlx=warn,tower_http=warn"));
+    // colour codes only for a terminal, not for log files and collectors
     let builder = tracing_subscriber::fmt()
         .with_env_filter(filter)
+        .with_ansi(std::io::IsTerminal::is_terminal(&std::io::stderr()))
         .with_writer(std::io::stderr);
     if format == "json" {
         builder.json().init();

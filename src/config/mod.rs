@@ -1,30 +1,22 @@
 //! Service configuration: every setting is a flag with an environment variable.
 
 mod tokens;
+mod worker;
 
 pub use tokens::{hash_token, Tokens};
+pub use worker::WorkerConfig;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug, Clone)]
 pub struct Config {
+    #[command(flatten)]
+    pub worker: WorkerConfig,
+
     /// Address to listen on (port 0 picks a free port; the bound address is printed).
     #[arg(long, env = "BEARING_SIM_BIND", default_value = "127.0.0.1:8080")]
     pub bind: SocketAddr,
-
-    /// SQLite database URL; the file and its directory are created if missing.
-    #[arg(
-        long,
-        env = "BEARING_SIM_DATABASE_URL",
-        default_value = "sqlite://data/bearing-sim.db"
-    )]
-    pub database_url: String,
-
-    /// Jobs run at the same time (blocking engine threads); default: available cores.
-    /// 0 runs the API alone (jobs wait for a worker process on the same database).
-    #[arg(long, env = "BEARING_SIM_WORKERS")]
-    pub workers: Option<usize>,
 
     /// Direct computations (quasi-static solves, analyses answered in the request) run at
     /// the same time, on threads apart from the job workers; default: half the cores, at
@@ -67,10 +59,6 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_OPEN_READS")]
     pub open_reads: bool,
 
-    /// Log format on stderr: `text` or `json`.
-    #[arg(long, env = "BEARING_SIM_LOG_FORMAT", default_value = "text", value_parser = ["text", "json"])]
-    pub log_format: String,
-
     /// Largest request body, bytes (413 above it).
     #[arg(long, env = "BEARING_SIM_MAX_BODY_BYTES", default_value_t = 32 * 1024 * 1024)]
     pub max_body_bytes: usize,
@@ -98,14 +86,6 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_MAX_HEADER_BYTES", default_value_t = 64 * 1024)]
     pub max_header_bytes: usize,
 
-    /// Lease of a running job, s: a job whose worker stops heartbeating is requeued after it.
-    #[arg(long, env = "BEARING_SIM_LEASE_SECS", default_value_t = 10.0)]
-    pub lease_secs: f64,
-
-    /// Claims of one job before a lost lease fails it instead of requeueing it.
-    #[arg(long, env = "BEARING_SIM_MAX_ATTEMPTS", default_value_t = 3)]
-    pub max_attempts: i64,
-
     /// Analyses of signals up to this many samples are answered directly; longer ones are queued.
     #[arg(
         long,
@@ -125,16 +105,6 @@ pub struct Config {
     )]
     pub max_scene_evaluations: f64,
 
-    /// Wall-clock limit of one job's run, s: a job still running after it is stopped and
-    /// failed (kind `time_limit`). 0 disables it.
-    #[arg(long, env = "BEARING_SIM_JOB_TIME_LIMIT", default_value_t = 3600.0)]
-    pub job_time_limit: f64,
-
-    /// Finished jobs and studies are deleted this long after they finished, s (with their
-    /// signals and spectra); 0 keeps them until deleted. Default 30 days.
-    #[arg(long, env = "BEARING_SIM_RETENTION", default_value_t = 30.0 * 86400.0)]
-    pub retention: f64,
-
     /// Bytes the database may hold in jobs and their outputs; past it submissions get
     /// 507 until retention or DELETE frees space. Default 20 GiB.
     #[arg(long, env = "BEARING_SIM_MAX_STORE_BYTES", default_value_t = 20 * 1024 * 1024 * 1024)]
@@ -152,10 +122,6 @@ pub struct Config {
     /// timeout), so memory stays near this many times the body limit.
     #[arg(long, env = "BEARING_SIM_MAX_LARGE_TRANSFERS", default_value_t = 4)]
     pub max_large_transfers: usize,
-
-    /// Grace period on shutdown for running jobs to stop and be requeued, s.
-    #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
-    pub shutdown_grace: f64,
 }
 
 impl Config {
@@ -175,14 +141,6 @@ impl Config {
         Ok(t)
     }
 
-    pub fn worker_count(&self) -> usize {
-        self.workers.unwrap_or_else(|| {
-            std::thread::available_parallelism()
-                .map(|n| n.get())
-                .unwrap_or(1)
-        })
-    }
-
     pub fn direct_count(&self) -> usize {
         self.direct_concurrency
             .unwrap_or_else(|| {
@@ -200,15 +158,6 @@ impl Config {
                 None => 512,
             })
             .max(1)
-    }
-
-    pub fn lease_ms(&self) -> i64 {
-        (self.lease_secs.max(0.5) * 1000.0) as i64
-    }
-
-    /// Heartbeats at a third of the lease (at most every 400 ms, so progress stays fresh).
-    pub fn heartbeat_interval(&self) -> std::time::Duration {
-        std::time::Duration::from_millis((self.lease_ms() / 3).clamp(50, 400) as u64)
     }
 }
 

@@ -1,6 +1,6 @@
 //! What every worker shares.
 
-use crate::config::Config;
+use crate::config::WorkerConfig;
 use crate::metrics::Metrics;
 use crate::store::Store;
 use std::sync::Arc;
@@ -10,7 +10,7 @@ use tokio::sync::Notify;
 #[derive(Clone)]
 pub struct WorkerEnv {
     pub store: Arc<dyn Store>,
-    pub config: Arc<Config>,
+    pub config: Arc<WorkerConfig>,
     pub metrics: Arc<Metrics>,
     /// Poked by submissions so an idle worker claims at once instead of at its next poll.
     pub wake: Arc<Notify>,

@@ -15,8 +15,15 @@ pub struct WorkerPool {
 }
 
 impl WorkerPool {
-    pub fn start(env: WorkerEnv) -> WorkerPool {
+    pub async fn start(env: WorkerEnv) -> WorkerPool {
         let (tx, rx) = watch::channel(false);
+        if env.config.worker_count() > 0 {
+            // Jobs queued by other processes wake the idle workers at once (PostgreSQL's
+            // LISTEN/NOTIFY); without it they are found by the next poll.
+            if let Err(e) = env.store.wake_on_new_work(env.wake.clone()).await {
+                tracing::warn!(error = %e, "no wake-ups from the database; idle workers poll");
+            }
+        }
         // One id per process; leases name it so a restarted process never matches a stale lease.
         let process = uuid::Uuid::new_v4().simple().to_string();
         let workers = (0..env.config.worker_count())

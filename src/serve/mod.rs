@@ -2,35 +2,27 @@
 //! shutdown (SIGTERM or Ctrl-C for [`run`], any future for [`run_until`]).
 
 mod connections;
+mod error;
 mod problem_io;
+mod signal;
+mod worker_node;
 
 pub use connections::ConnectionLimits;
+pub use error::ServeError;
+use signal::shutdown_signal;
+pub use worker_node::{run_worker_node, run_worker_node_until};
 
 use crate::api::{self, AppState};
 use crate::config::Config;
 use crate::jobs::{WorkerEnv, WorkerPool};
 use crate::metrics::Metrics;
-use crate::store::sqlite::SqliteStore;
-use crate::store::{Store, StoreError};
+use crate::store::{self, Store};
 use std::future::Future;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::net::TcpListener;
 use tokio::sync::{Notify, Semaphore};
-
-/// Why the service stopped with an error.
-#[derive(Debug, thiserror::Error)]
-pub enum ServeError {
-    #[error("database: {0}")]
-    Store(#[from] StoreError),
-    #[error("server: {0}")]
-    Io(#[from] std::io::Error),
-    #[error("configuration: {0}")]
-    Config(String),
-    #[error("server task: {0}")]
-    Join(#[from] tokio::task::JoinError),
-}
 
 /// Serve on `listener` until SIGTERM or Ctrl-C; running jobs are then stopped and requeued.
 pub async fn run(config: Config, listener: TcpListener) -> Result<(), ServeError> {
@@ -53,18 +45,19 @@ pub async fn run_until(
         eprintln!("{warning}");
         tracing::warn!("{warning}");
     }
-    let store: Arc<dyn Store> = Arc::new(SqliteStore::connect(&config.database_url).await?);
+    let store: Arc<dyn Store> = store::connect(&config.worker.database_url).await?;
     let metrics = Arc::new(Metrics::default());
     let wake = Arc::new(Notify::new());
     let ready = Arc::new(AtomicBool::new(true));
-    let workers = config.worker_count();
+    let workers = config.worker.worker_count();
 
     let pool = WorkerPool::start(WorkerEnv {
         store: store.clone(),
-        config: config.clone(),
+        config: Arc::new(config.worker.clone()),
         metrics: metrics.clone(),
         wake: wake.clone(),
-    });
+    })
+    .await;
     let metrics_for_server = metrics.clone();
     let state = AppState {
         store,
@@ -77,7 +70,7 @@ pub async fn run_until(
         openapi_yaml: api::openapi::yaml(),
         tokens: tokens.clone(),
     };
-    tracing::info!(%addr, workers, tokens = tokens.len(), database = %config.database_url, "serving");
+    tracing::info!(%addr, workers, tokens = tokens.len(), database = %store::redact_url(&config.worker.database_url), "serving");
 
     let (stop_tx, mut stop_rx) = tokio::sync::watch::channel(false);
     tokio::spawn(async move {
@@ -109,33 +102,14 @@ pub async fn run_until(
     let _ = stop_rx.wait_for(|s| *s).await;
     tracing::info!("shutting down: no new jobs; running jobs are stopped and requeued");
     ready.store(false, Ordering::SeqCst);
-    pool.shutdown(Duration::from_secs_f64(config.shutdown_grace.max(0.0)))
-        .await;
+    pool.shutdown(Duration::from_secs_f64(
+        config.worker.shutdown_grace.max(0.0),
+    ))
+    .await;
     match tokio::time::timeout(Duration::from_secs(5), server).await {
         Ok(joined) => joined?,
         Err(_) => tracing::warn!("open connections did not close within 5 s"),
     }
     tracing::info!("stopped");
     Ok(())
-}
-
-async fn shutdown_signal() {
-    let ctrl_c = async {
-        let _ = tokio::signal::ctrl_c().await;
-    };
-    #[cfg(unix)]
-    let term = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut s) => {
-                s.recv().await;
-            }
-            Err(_) => std::future::pending::<()>().await,
-        }
-    };
-    #[cfg(not(unix))]
-    let term = std::future::pending::<()>();
-    tokio::select! {
-        _ = ctrl_c => {}
-        _ = term => {}
-    }
 }

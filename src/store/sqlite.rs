@@ -4,11 +4,11 @@
 //! write), so concurrent writers queue on SQLite's lock with the busy timeout instead of
 //! failing on a read-to-write upgrade.
 
-use super::*;
+use super::contract::{Store, StoreError};
+use super::model::*;
+use super::rows::*;
 use async_trait::async_trait;
-use sqlx::sqlite::{
-    SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteRow, SqliteSynchronous,
-};
+use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::{Row, SqlitePool};
 use std::str::FromStr;
 use std::time::Duration;
@@ -16,10 +16,6 @@ use std::time::Duration;
 pub struct SqliteStore {
     pool: SqlitePool,
 }
-
-const JOB_COLUMNS: &str =
-    "seq, id, tenant, kind, state, label, progress, attempt, cancel_requested, version, \
-     created_at, started_at, finished_at, updated_at, error, stats, result";
 
 impl SqliteStore {
     /// Open (creating the file and its directory if needed) and migrate.
@@ -41,7 +37,7 @@ impl SqliteStore {
             .acquire_timeout(Duration::from_secs(30))
             .connect_with(opts)
             .await?;
-        sqlx::migrate!("./migrations").run(&pool).await?;
+        sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
         Ok(SqliteStore { pool })
     }
 
@@ -54,73 +50,6 @@ impl SqliteStore {
     }
 }
 
-/// The idempotency key as stored: a tenant's keys live apart from every other tenant's
-/// (the unit separator cannot occur in a header value); without tokens it is the key.
-fn scoped_idempotency_key(tenant: &str, key: &str) -> String {
-    if tenant.is_empty() {
-        key.to_string()
-    } else {
-        format!("{tenant}\u{1f}{key}")
-    }
-}
-
-fn parse_json(s: Option<String>) -> Option<serde_json::Value> {
-    s.and_then(|s| serde_json::from_str(&s).ok())
-}
-
-fn job_from_row(r: &SqliteRow) -> Result<Job, StoreError> {
-    let kind: String = r.try_get("kind")?;
-    let state: String = r.try_get("state")?;
-    let decode =
-        |what: &str, v: &str| sqlx::Error::Decode(format!("bad {what} '{v}' in jobs row").into());
-    Ok(Job {
-        seq: r.try_get("seq")?,
-        id: r.try_get("id")?,
-        tenant: r.try_get("tenant")?,
-        kind: JobKind::parse(&kind).ok_or_else(|| decode("kind", &kind))?,
-        state: JobState::parse(&state).ok_or_else(|| decode("state", &state))?,
-        label: r.try_get("label")?,
-        progress: r.try_get("progress")?,
-        attempt: r.try_get("attempt")?,
-        cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0,
-        version: r.try_get("version")?,
-        created_at: r.try_get("created_at")?,
-        started_at: r.try_get("started_at")?,
-        finished_at: r.try_get("finished_at")?,
-        updated_at: r.try_get("updated_at")?,
-        error: parse_json(r.try_get("error")?).and_then(|v| serde_json::from_value(v).ok()),
-        stats: parse_json(r.try_get("stats")?),
-        result: parse_json(r.try_get("result")?),
-    })
-}
-
-const STUDY_COLUMNS: &str =
-    "seq, id, tenant, label, request, design, cancel_requested, version, created_at, updated_at";
-
-fn study_from_row(r: &SqliteRow) -> Result<Study, StoreError> {
-    let json = |col: &str| -> Result<serde_json::Value, StoreError> {
-        let text: String = r.try_get(col)?;
-        serde_json::from_str(&text).map_err(|e| {
-            StoreError::Db(sqlx::Error::Decode(
-                format!("bad {col} in studies row: {e}").into(),
-            ))
-        })
-    };
-    Ok(Study {
-        seq: r.try_get("seq")?,
-        id: r.try_get("id")?,
-        tenant: r.try_get("tenant")?,
-        label: r.try_get("label")?,
-        request: json("request")?,
-        design: json("design")?,
-        cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0,
-        version: r.try_get("version")?,
-        created_at: r.try_get("created_at")?,
-        updated_at: r.try_get("updated_at")?,
-        points: vec![],
-    })
-}
-
 impl SqliteStore {
     async fn study_points(&self, id: &str) -> Result<Vec<StudyPointRow>, StoreError> {
         let rows = sqlx::query(&format!(
@@ -128,35 +57,13 @@ impl SqliteStore {
                  EXISTS (SELECT 1 FROM study_points o WHERE o.job_id = sp.job_id AND o.study_id != sp.study_id) AS others, \
                  {} \
              FROM study_points sp JOIN jobs ON jobs.id = sp.job_id WHERE sp.study_id = ? ORDER BY sp.idx",
-            JOB_COLUMNS
-                .split(", ")
-                .map(|c| format!("jobs.{} AS {}", c.trim(), c.trim()))
-                .collect::<Vec<_>>()
-                .join(", ")
+            job_columns_of_join()
         ))
         .bind(id)
         .fetch_all(&self.pool)
         .await?;
-        rows.iter()
-            .map(|r| {
-                let spec: String = r.try_get("spec")?;
-                Ok(StudyPointRow {
-                    index: r.try_get::<i64, _>("idx")? as usize,
-                    spec: serde_json::from_str(&spec).map_err(|e| {
-                        StoreError::Db(sqlx::Error::Decode(
-                            format!("bad spec of a point of study {id}: {e}").into(),
-                        ))
-                    })?,
-                    job: job_from_row(r)?,
-                    shared_with_other_studies: r.try_get::<i64, _>("others")? != 0,
-                })
-            })
-            .collect()
+        rows.iter().map(|r| study_point_from_row(id, r)).collect()
     }
-}
-
-fn opt_json(v: &Option<serde_json::Value>) -> Option<String> {
-    v.as_ref().map(|v| v.to_string())
 }
 
 #[async_trait]
@@ -259,17 +166,13 @@ impl Store for SqliteStore {
 
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError> {
         let now = now_ms();
-        let err = JobError {
-            kind: FailureKind::Cancelled,
-            message: "cancelled while queued".into(),
-        };
         let done = sqlx::query(
             "UPDATE jobs SET state = 'cancelled', finished_at = ?2, updated_at = ?2, version = version + 1, \
              cancel_requested = 1, error = ?3 WHERE id = ?1 AND state = 'queued'",
         )
         .bind(id)
         .bind(now)
-        .bind(serde_json::to_string(&err).unwrap_or_default())
+        .bind(cancelled_while_queued(None))
         .execute(&self.pool)
         .await?
         .rows_affected();
@@ -343,20 +246,7 @@ impl Store for SqliteStore {
         .bind(now)
         .fetch_optional(&self.pool)
         .await?;
-        let Some(r) = row else { return Ok(None) };
-        let kind: String = r.try_get("kind")?;
-        let input: String = r.try_get("input")?;
-        Ok(Some(Claimed {
-            lease: Lease {
-                id: r.try_get("id")?,
-                owner: owner.to_string(),
-                attempt: r.try_get("attempt")?,
-            },
-            kind: JobKind::parse(&kind).unwrap_or(JobKind::Simulation),
-            input: serde_json::from_str(&input).unwrap_or(serde_json::Value::Null),
-            input_blob: r.try_get("input_blob")?,
-            cancel_requested: r.try_get::<i64, _>("cancel_requested")? != 0,
-        }))
+        row.map(|r| claimed_from_row(owner, &r)).transpose()
     }
 
     async fn heartbeat(
@@ -395,15 +285,7 @@ impl Store for SqliteStore {
 
     async fn finish(&self, lease: &Lease, outcome: Outcome) -> Result<(), StoreError> {
         let now = now_ms();
-        let (state, progress, error, stats, result, artifacts) = match outcome {
-            Outcome::Succeeded {
-                result,
-                stats,
-                artifacts,
-            } => ("succeeded", Some(1.0), None, stats, Some(result), artifacts),
-            Outcome::Failed { error, stats } => ("failed", None, Some(error), stats, None, vec![]),
-            Outcome::Cancelled { error } => ("cancelled", None, Some(error), None, None, vec![]),
-        };
+        let (state, progress, error, stats, result, artifacts) = finished_row(outcome);
         let mut tx = self.pool.begin().await?;
         // The fenced write comes first so the transaction takes the write lock at once.
         let n = sqlx::query(
@@ -416,9 +298,9 @@ impl Store for SqliteStore {
         .bind(lease.attempt)
         .bind(state)
         .bind(progress)
-        .bind(error.map(|e| serde_json::to_string(&e).unwrap_or_default()))
-        .bind(opt_json(&stats))
-        .bind(opt_json(&result))
+        .bind(error)
+        .bind(stats)
+        .bind(result)
         .bind(now)
         .execute(&mut *tx)
         .await?
@@ -463,12 +345,6 @@ impl Store for SqliteStore {
 
     async fn recover_expired(&self, max_attempts: i64) -> Result<u64, StoreError> {
         let now = now_ms();
-        let err = JobError {
-            kind: FailureKind::LeaseExpired,
-            message: format!(
-                "the worker running this job stopped responding {max_attempts} times; giving up"
-            ),
-        };
         // A job asked to cancel is not run again: it ends cancelled.
         let cancelled = sqlx::query(
             "UPDATE jobs SET state = 'cancelled', error = ?2, owner = NULL, lease_expires_at = NULL, \
@@ -476,7 +352,7 @@ impl Store for SqliteStore {
              WHERE state = 'running' AND lease_expires_at < ?1 AND cancel_requested = 1",
         )
         .bind(now)
-        .bind(r#"{"kind":"cancelled","message":"cancelled (its worker stopped before confirming)"}"#)
+        .bind(CANCELLED_UNCONFIRMED)
         .execute(&self.pool)
         .await?
         .rows_affected();
@@ -487,7 +363,7 @@ impl Store for SqliteStore {
         )
         .bind(now)
         .bind(max_attempts)
-        .bind(serde_json::to_string(&err).unwrap_or_default())
+        .bind(lease_expired_error(max_attempts))
         .execute(&self.pool)
         .await?
         .rows_affected();
@@ -510,23 +386,7 @@ impl Store for SqliteStore {
                 .bind(name)
                 .fetch_optional(&self.pool)
                 .await?;
-        Ok(match row {
-            Some(r) => {
-                let name: String = r.try_get("name")?;
-                let meta: String = r.try_get("meta")?;
-                let meta = serde_json::from_str(&meta).map_err(|e| {
-                    sqlx::Error::Decode(
-                        format!("bad metadata of artifact {name} of job {id}: {e}").into(),
-                    )
-                })?;
-                Some(Artifact {
-                    name,
-                    meta,
-                    data: r.try_get("data")?,
-                })
-            }
-            None => None,
-        })
+        row.map(|r| artifact_from_row(id, &r)).transpose()
     }
 
     async fn stored_bytes(&self) -> Result<i64, StoreError> {
@@ -751,17 +611,13 @@ impl Store for SqliteStore {
         let ours = "id IN (SELECT job_id FROM study_points WHERE study_id = ?1) \
              AND NOT EXISTS (SELECT 1 FROM study_points o JOIN studies s ON s.id = o.study_id \
                  WHERE o.job_id = jobs.id AND o.study_id != ?1 AND s.cancel_requested = 0)";
-        let err = JobError {
-            kind: FailureKind::Cancelled,
-            message: format!("cancelled while queued, with study {id}"),
-        };
         sqlx::query(&format!(
             "UPDATE jobs SET state = 'cancelled', finished_at = ?2, updated_at = ?2, version = version + 1, \
              cancel_requested = 1, error = ?3 WHERE state = 'queued' AND {ours}"
         ))
         .bind(id)
         .bind(now)
-        .bind(serde_json::to_string(&err).unwrap_or_default())
+        .bind(cancelled_while_queued(Some(id)))
         .execute(&mut *tx)
         .await?;
         sqlx::query(&format!(
@@ -822,134 +678,5 @@ impl Store for SqliteStore {
         }
         tx.commit().await?;
         Ok(())
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use serde_json::json;
-
-    async fn store() -> (tempfile::TempDir, SqliteStore) {
-        let dir = tempfile::tempdir().unwrap();
-        let url = format!("sqlite://{}", dir.path().join("t.db").display());
-        let s = SqliteStore::connect(&url).await.unwrap();
-        (dir, s)
-    }
-
-    fn new_job(key: Option<&str>, hash: &str) -> NewJob {
-        NewJob {
-            id: uuid::Uuid::now_v7().to_string(),
-            tenant: String::new(),
-            kind: JobKind::Simulation,
-            label: "t".into(),
-            input: json!({}),
-            input_blob: None,
-            idempotency_key: key.map(String::from),
-            request_hash: hash.into(),
-        }
-    }
-
-    #[tokio::test]
-    async fn a_stale_lease_can_never_write() {
-        let (_d, s) = store().await;
-        let id = s.create_job(new_job(None, "h"), 10).await.unwrap().job.id;
-        // Worker A claims with a lease that is already over (as if it hung).
-        let a = s.claim("A", -1).await.unwrap().unwrap().lease;
-        assert_eq!((a.id.as_str(), a.attempt), (id.as_str(), 1));
-        assert_eq!(s.recover_expired(3).await.unwrap(), 1);
-        let b = s.claim("B", 60_000).await.unwrap().unwrap().lease;
-        assert_eq!(b.attempt, 2);
-        // A wakes up: every write of its lease is refused.
-        assert!(matches!(
-            s.heartbeat(&a, 0.5, 1000).await,
-            Err(StoreError::LeaseLost)
-        ));
-        let late = Outcome::Failed {
-            error: JobError {
-                kind: FailureKind::Numerical,
-                message: "stale".into(),
-            },
-            stats: None,
-        };
-        assert!(matches!(
-            s.finish(&a, late).await,
-            Err(StoreError::LeaseLost)
-        ));
-        assert!(matches!(s.release(&a).await, Err(StoreError::LeaseLost)));
-        // B's outcome stands.
-        s.heartbeat(&b, 0.5, 60_000).await.unwrap();
-        s.finish(
-            &b,
-            Outcome::Succeeded {
-                result: json!({"ok": true}),
-                stats: None,
-                artifacts: vec![],
-            },
-        )
-        .await
-        .unwrap();
-        let job = s.get_job(&id).await.unwrap();
-        assert_eq!(job.state, JobState::Succeeded);
-        assert_eq!(job.result, Some(json!({"ok": true})));
-        assert!(s.claim("C", 1000).await.unwrap().is_none());
-    }
-
-    #[tokio::test]
-    async fn lost_leases_give_up_after_max_attempts_and_release_does_not_count() {
-        let (_d, s) = store().await;
-        let id = s.create_job(new_job(None, "h"), 10).await.unwrap().job.id;
-        let l = s.claim("A", 60_000).await.unwrap().unwrap().lease;
-        s.release(&l).await.unwrap();
-        assert_eq!(s.get_job(&id).await.unwrap().attempt, 0);
-        for _ in 0..2 {
-            s.claim("A", -1).await.unwrap().unwrap();
-            s.recover_expired(2).await.unwrap();
-        }
-        let job = s.get_job(&id).await.unwrap();
-        assert_eq!(job.state, JobState::Failed);
-        assert_eq!(job.error.unwrap().kind, FailureKind::LeaseExpired);
-    }
-
-    #[tokio::test]
-    async fn admission_idempotency_and_cancel() {
-        let (_d, s) = store().await;
-        let first = s.create_job(new_job(Some("k"), "h1"), 2).await.unwrap();
-        assert!(first.created);
-        let replay = s.create_job(new_job(Some("k"), "h1"), 2).await.unwrap();
-        assert!(!replay.created);
-        assert_eq!(replay.job.id, first.job.id);
-        assert!(matches!(
-            s.create_job(new_job(Some("k"), "h2"), 2).await,
-            Err(StoreError::IdempotencyMismatch(_))
-        ));
-        s.create_job(new_job(None, "h"), 2).await.unwrap();
-        assert!(matches!(
-            s.create_job(new_job(None, "h"), 2).await,
-            Err(StoreError::QueueFull(2))
-        ));
-
-        // queued -> cancelled at once; running -> flagged, seen by the heartbeat
-        let c = s.request_cancel(&first.job.id).await.unwrap();
-        assert_eq!(c.state, JobState::Cancelled);
-        assert!(matches!(
-            s.request_cancel(&first.job.id).await,
-            Err(StoreError::Conflict { .. })
-        ));
-        let l = s.claim("A", 60_000).await.unwrap().unwrap().lease;
-        assert!(!s.heartbeat(&l, 0.1, 60_000).await.unwrap().cancel_requested);
-        assert_eq!(
-            s.request_cancel(&l.id).await.unwrap().state,
-            JobState::Running
-        );
-        assert!(s.heartbeat(&l, 0.2, 60_000).await.unwrap().cancel_requested);
-        assert!(matches!(
-            s.delete_job(&l.id).await,
-            Err(StoreError::Conflict { .. })
-        ));
-        assert!(matches!(
-            s.get_job("nope").await,
-            Err(StoreError::NotFound(_))
-        ));
     }
 }

@@ -58,7 +58,7 @@ impl TestApp {
         let config = ServeFlags::try_parse_from(argv)
             .unwrap_or_else(|e| panic!("bad test flags {args:?}: {e}"))
             .config;
-        let workers = config.worker_count();
+        let workers = config.worker.worker_count();
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .on_thread_start(move || {
                 // the thread's default for its whole life

@@ -14,45 +14,122 @@ pub struct Server {
     pub log: PathBuf,
 }
 
+/// A log file next to `db` that no other process of this test writes.
+pub fn unique_log(db: &Path) -> PathBuf {
+    db.with_extension(format!(
+        "log{}",
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos()
+    ))
+}
+
+/// Spawn `bearing-sim <command...> --database-url <url> <args>` with stderr to `log`, and
+/// wait for the stdout line starting with `ready` (returns what follows it).
+fn spawn_until(
+    command: &[&str],
+    url: &str,
+    log: &Path,
+    args: &[&str],
+    ready: &str,
+) -> (Child, String) {
+    let log_file = std::fs::File::create(log).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(command)
+        .args(["--database-url", url])
+        .args(args)
+        .env_remove("BEARING_SIM_BIND")
+        .env_remove("BEARING_SIM_DATABASE_URL")
+        .env_remove("BEARING_SIM_WORKERS")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::from(log_file))
+        .spawn()
+        .expect("spawn bearing-sim");
+    let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
+    let rest = loop {
+        match lines.next() {
+            Some(Ok(line)) => {
+                if let Some(rest) = line.strip_prefix(ready) {
+                    break rest.trim().to_string();
+                }
+            }
+            _ => panic!(
+                "bearing-sim {command:?} exited before {ready:?}; log:\n{}",
+                std::fs::read_to_string(log).unwrap_or_default()
+            ),
+        }
+    };
+    // Keep draining stdout so the child never blocks on a full pipe.
+    std::thread::spawn(move || for _ in lines {});
+    (child, rest)
+}
+
+/// A `bearing-sim worker` process (job workers only, no HTTP).
+pub struct WorkerProcess {
+    child: Child,
+    pub log: PathBuf,
+}
+
+impl WorkerProcess {
+    /// Start workers on the database at `url`; returns once they run.
+    pub fn start(url: &str, log: &Path, args: &[&str]) -> WorkerProcess {
+        let (child, _) = spawn_until(&["worker"], url, log, args, "worker ready:");
+        WorkerProcess {
+            child,
+            log: log.to_path_buf(),
+        }
+    }
+
+    pub fn pid(&self) -> u32 {
+        self.child.id()
+    }
+
+    /// SIGKILL: no shutdown code runs, as in a crash.
+    pub fn kill(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+
+    /// SIGTERM and wait for the process to exit.
+    pub fn terminate(&mut self) -> std::process::ExitStatus {
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
+        self.child.wait().unwrap()
+    }
+
+    pub fn log(&self) -> String {
+        std::fs::read_to_string(&self.log).unwrap_or_default()
+    }
+}
+
+impl Drop for WorkerProcess {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
 impl Server {
     /// Start on `db` (a file path) with extra flags; returns once it listens.
     pub fn start(db: &Path, args: &[&str]) -> Server {
-        let log = db.with_extension(format!(
-            "log{}",
-            std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .unwrap()
-                .as_nanos()
-        ));
-        let log_file = std::fs::File::create(&log).unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-            .arg("serve")
-            .args(["--bind", "127.0.0.1:0", "--database-url"])
-            .arg(format!("sqlite://{}", db.display()))
-            .args(args)
-            .env_remove("BEARING_SIM_BIND")
-            .env_remove("BEARING_SIM_DATABASE_URL")
-            .stdout(Stdio::piped())
-            .stderr(Stdio::from(log_file))
-            .spawn()
-            .expect("spawn bearing-sim serve");
-        let mut lines = BufReader::new(child.stdout.take().unwrap()).lines();
-        let base = loop {
-            match lines.next() {
-                Some(Ok(line)) => {
-                    if let Some(url) = line.strip_prefix("listening on ") {
-                        break url.trim().to_string();
-                    }
-                }
-                _ => panic!(
-                    "server exited before listening; log:\n{}",
-                    std::fs::read_to_string(&log).unwrap_or_default()
-                ),
-            }
-        };
-        // Keep draining stdout so the child never blocks on a full pipe.
-        std::thread::spawn(move || for _ in lines {});
-        Server { child, base, log }
+        Server::start_on(&format!("sqlite://{}", db.display()), &unique_log(db), args)
+    }
+
+    /// Start on the database at `url`, logging to `log`; returns once it listens.
+    pub fn start_on(url: &str, log: &Path, args: &[&str]) -> Server {
+        let (child, base) = spawn_until(
+            &["serve", "--bind", "127.0.0.1:0"],
+            url,
+            log,
+            args,
+            "listening on ",
+        );
+        Server {
+            child,
+            base,
+            log: log.to_path_buf(),
+        }
     }
 
     pub fn url(&self, path: &str) -> String {

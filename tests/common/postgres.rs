@@ -1,0 +1,216 @@
+//! A throw-away PostgreSQL server for the tests: `initdb` in a temporary directory, a
+//! server listening on a Unix socket in it only (no TCP port to collide on), one per test
+//! binary, stopped and removed by a watchdog when the test process exits. Every test gets
+//! a database of its own ([`PgCluster::new_database`]).
+//!
+//! Without PostgreSQL's server programs the PostgreSQL tests say so loudly and pass,
+//! unless `BEARING_SIM_REQUIRE_POSTGRES=1` (set by `scripts/test-all`, hence by CI), which
+//! makes the absence a failure.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::OnceLock;
+
+pub struct PgCluster {
+    bin: PathBuf,
+    socket_dir: PathBuf,
+    /// Runs the server programs as this user (PostgreSQL refuses to run as root).
+    run_as: Option<String>,
+    port: u16,
+}
+
+/// The server of this test binary, started on first use; `None` (after a loud message)
+/// when PostgreSQL is not installed and not required.
+pub fn pg_cluster() -> Option<&'static PgCluster> {
+    static CLUSTER: OnceLock<Result<PgCluster, String>> = OnceLock::new();
+    match CLUSTER.get_or_init(PgCluster::start) {
+        Ok(c) => Some(c),
+        Err(why) => {
+            let required = std::env::var("BEARING_SIM_REQUIRE_POSTGRES").as_deref() == Ok("1");
+            if required {
+                panic!("PostgreSQL is required (BEARING_SIM_REQUIRE_POSTGRES=1) but: {why}");
+            }
+            eprintln!(
+                "\n*** POSTGRESQL TESTS NOT RUN: {why}.\n*** Install PostgreSQL's server \
+                 (Debian: apt-get install postgresql) or run scripts/test-all, which does.\n"
+            );
+            None
+        }
+    }
+}
+
+/// The directory holding `initdb` and `pg_ctl`: on the PATH, or Debian's versioned
+/// directory (newest first).
+fn find_bin() -> Option<PathBuf> {
+    if let Ok(dir) = std::env::var("BEARING_SIM_PG_BIN") {
+        return Some(PathBuf::from(dir));
+    }
+    let on_path = std::env::var_os("PATH").and_then(|p| {
+        std::env::split_paths(&p).find(|d| d.join("initdb").is_file() && d.join("pg_ctl").is_file())
+    });
+    if on_path.is_some() {
+        return on_path;
+    }
+    let mut versions: Vec<(u32, PathBuf)> = std::fs::read_dir("/usr/lib/postgresql")
+        .ok()?
+        .flatten()
+        .filter_map(|e| {
+            let v = e.file_name().to_str()?.parse::<u32>().ok()?;
+            let bin = e.path().join("bin");
+            bin.join("initdb").is_file().then_some((v, bin))
+        })
+        .collect();
+    versions.sort();
+    versions.pop().map(|(_, bin)| bin)
+}
+
+impl PgCluster {
+    fn start() -> Result<PgCluster, String> {
+        let bin = find_bin().ok_or("initdb and pg_ctl were not found")?;
+        // SAFETY: geteuid has no preconditions and cannot fail.
+        let root = unsafe { libc::geteuid() } == 0;
+        let run_as = root.then(|| "postgres".to_string());
+        let base = std::env::temp_dir().join(format!(
+            "bearing-sim-pg-{}-{}",
+            std::process::id(),
+            uuid::Uuid::new_v4().simple()
+        ));
+        std::fs::create_dir_all(&base).map_err(|e| format!("temporary directory: {e}"))?;
+        if let Some(user) = &run_as {
+            let ok = Command::new("chown")
+                .arg(user)
+                .arg(&base)
+                .status()
+                .map(|s| s.success())
+                .unwrap_or(false);
+            if !ok {
+                return Err(format!(
+                    "running as root, and the directory could not be given to user {user:?} \
+                     (PostgreSQL refuses to run as root)"
+                ));
+            }
+        }
+        let data = base.join("data");
+        let port = 5432;
+        let c = PgCluster {
+            bin,
+            socket_dir: base.clone(),
+            run_as,
+            port,
+        };
+        // Durability is not under test here: fsync off makes initdb and the suite fast.
+        c.run(
+            "initdb",
+            &[
+                "-D".as_ref(),
+                data.as_os_str(),
+                "-A".as_ref(),
+                "trust".as_ref(),
+                "-U".as_ref(),
+                "postgres".as_ref(),
+                "--no-sync".as_ref(),
+                "-E".as_ref(),
+                "UTF8".as_ref(),
+            ],
+        )?;
+        let opts = format!(
+            "-k {} -p {port} -c listen_addresses='' -c fsync=off -c synchronous_commit=off \
+             -c full_page_writes=off -c max_connections=300",
+            base.display()
+        );
+        c.run(
+            "pg_ctl",
+            &[
+                "-D".as_ref(),
+                data.as_os_str(),
+                "-o".as_ref(),
+                opts.as_ref(),
+                "-l".as_ref(),
+                base.join("server.log").as_os_str(),
+                "-w".as_ref(),
+                "start".as_ref(),
+            ],
+        )?;
+        c.watch_for_exit(&data, &base);
+        Ok(c)
+    }
+
+    /// Run one of the server programs (as the `postgres` user when we are root).
+    fn run(&self, program: &str, args: &[&std::ffi::OsStr]) -> Result<(), String> {
+        let exe = self.bin.join(program);
+        let mut cmd = match &self.run_as {
+            Some(user) => {
+                let mut c = Command::new("runuser");
+                c.args(["-u", user, "--"]).arg(&exe);
+                c
+            }
+            None => Command::new(&exe),
+        };
+        let out = cmd
+            .args(args)
+            .stdin(Stdio::null())
+            .output()
+            .map_err(|e| format!("{program}: {e}"))?;
+        if !out.status.success() {
+            return Err(format!(
+                "{program} failed: {}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            ));
+        }
+        Ok(())
+    }
+
+    /// A detached shell that stops the server and removes its directory once this test
+    /// process has exited (statics are never dropped, so nothing else would).
+    fn watch_for_exit(&self, data: &Path, base: &Path) {
+        let pg_ctl = self.bin.join("pg_ctl");
+        let stop = match &self.run_as {
+            Some(user) => format!(
+                "runuser -u {user} -- '{}' -D '{}' -m immediate stop",
+                pg_ctl.display(),
+                data.display()
+            ),
+            None => format!(
+                "'{}' -D '{}' -m immediate stop",
+                pg_ctl.display(),
+                data.display()
+            ),
+        };
+        let script = format!(
+            "while kill -0 {pid} 2>/dev/null; do sleep 0.5; done; {stop} >/dev/null 2>&1; rm -rf '{base}'",
+            pid = std::process::id(),
+            base = base.display()
+        );
+        let _ = Command::new("sh")
+            .args(["-c", &script])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn();
+    }
+
+    /// The URL of a server database for user `postgres`.
+    fn url(&self, db: &str) -> String {
+        format!(
+            "postgres://postgres@localhost:{}/{db}?host={}",
+            self.port,
+            self.socket_dir.display()
+        )
+    }
+
+    /// A new, empty database; returns its URL.
+    pub async fn new_database(&self) -> String {
+        use sqlx::Connection;
+        let name = format!("t_{}", uuid::Uuid::new_v4().simple());
+        let mut admin = sqlx::PgConnection::connect(&self.url("postgres"))
+            .await
+            .expect("connect to the test server");
+        sqlx::query(&format!("CREATE DATABASE {name}"))
+            .execute(&mut admin)
+            .await
+            .expect("CREATE DATABASE");
+        let _ = admin.close().await;
+        self.url(&name)
+    }
+}
