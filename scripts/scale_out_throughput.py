@@ -21,6 +21,7 @@ import shutil
 import subprocess
 import tempfile
 import time
+import urllib.error
 import urllib.request
 import uuid
 
@@ -78,18 +79,21 @@ def http(method, url, body=None):
     data = json.dumps(body).encode() if body is not None else None
     req = urllib.request.Request(url, data=data, method=method,
                                  headers={"content-type": "application/json"})
-    with urllib.request.urlopen(req, timeout=60) as r:
-        return json.loads(r.read())
+    try:
+        with urllib.request.urlopen(req, timeout=60) as r:
+            return json.loads(r.read())
+    except urllib.error.HTTPError as e:
+        raise SystemExit(f"{method} {url}: {e.code} {e.read().decode(errors='replace')}")
 
 
 def study(points, duration):
-    loads = [100.0 + 10.0 * i for i in range(points)]
+    loads = [200.0 + 10.0 * i for i in range(points)]
     return {
-        "name": f"throughput, {points} radial loads",
+        "name": f"throughput, {points} axial loads",
         "base": {"preset": "h7005c", "fault_case": "outer",
                  "overrides": {"solver": {"duration": duration}}},
         "design": {"type": "one_at_a_time", "factors": [
-            {"name": "radial_load", "pointer": "/operating/radial_load", "values": loads}]},
+            {"name": "axial_load", "pointer": "/operating/axial_load", "values": loads}]},
     }
 
 
