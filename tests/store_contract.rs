@@ -43,6 +43,7 @@ contract!(
     heartbeats_keep_progress_monotone_and_bump_the_version,
     a_cancel_requested_job_whose_worker_died_ends_cancelled,
     concurrent_claims_take_every_job_exactly_once,
+    concurrent_submissions_fill_the_queue_to_its_bound_exactly,
     studies_share_identical_points_and_earlier_runs,
     a_study_over_the_queue_bound_stores_nothing,
     cancelling_a_study_spares_points_another_study_wants,
@@ -397,6 +398,35 @@ async fn concurrent_claims_take_every_job_exactly_once(s: Arc<dyn Store>) {
     for j in page.jobs {
         assert_eq!((j.state, j.attempt), (JobState::Succeeded, 1), "{}", j.id);
     }
+}
+
+async fn concurrent_submissions_fill_the_queue_to_its_bound_exactly(s: Arc<dyn Store>) {
+    // 8 clients x 10 submissions against a bound of 25: the admission check and the
+    // insert must act as one, or two clients both take the 25th place.
+    let clients: Vec<_> = (0..8)
+        .map(|_| {
+            let s = s.clone();
+            tokio::spawn(async move {
+                let (mut accepted, mut full) = (0, 0);
+                for _ in 0..10 {
+                    match s.create_job(new_job(None, "h"), 25).await {
+                        Ok(_) => accepted += 1,
+                        Err(StoreError::QueueFull(_)) => full += 1,
+                        Err(e) => panic!("{e}"),
+                    }
+                }
+                (accepted, full)
+            })
+        })
+        .collect();
+    let (mut accepted, mut full) = (0, 0);
+    for c in clients {
+        let (a, f) = c.await.unwrap();
+        accepted += a;
+        full += f;
+    }
+    assert_eq!((accepted, full), (25, 55));
+    assert_eq!(s.counts().await.unwrap().queued, 25);
 }
 
 /// A study of `tenant` whose points have these scene keys.

@@ -21,14 +21,35 @@ use tokio::sync::Notify;
 
 pub struct PostgresStore {
     pool: PgPool,
+    /// The LISTEN task of [`Store::wake_on_new_work`], stopped with the store.
+    listener: std::sync::Mutex<Option<tokio::task::AbortHandle>>,
+}
+
+impl Drop for PostgresStore {
+    fn drop(&mut self) {
+        if let Some(task) = self.listener.lock().ok().and_then(|mut l| l.take()) {
+            task.abort();
+        }
+    }
 }
 
 /// The advisory lock key of the queue's structure (ASCII "bearing").
 const QUEUE_LOCK: i64 = 0x62_6561_7269_6e67;
 
+/// The database server's clock, unix ms. Leases are set and judged by one clock: with
+/// each machine's own, a node whose clock ran ahead would requeue healthy jobs.
+const DB_NOW_MS: &str = "(extract(epoch from clock_timestamp()) * 1000)::bigint";
+
 /// The channel the `jobs` triggers notify when a job becomes claimable
 /// (migrations/postgres/0001_schema.sql).
 const QUEUE_CHANNEL: &str = "bearing_sim_queue";
+
+/// What a cancel sets on a job: queued ones end cancelled (finished at `$2`, error `$3`),
+/// running ones are flagged for their worker's next heartbeat.
+const CANCEL_SET: &str = "state = CASE WHEN state = 'queued' THEN 'cancelled' ELSE state END, \
+     finished_at = CASE WHEN state = 'queued' THEN $2 ELSE finished_at END, \
+     error = CASE WHEN state = 'queued' THEN $3 ELSE error END, \
+     cancel_requested = TRUE";
 
 impl PostgresStore {
     /// Connect and migrate. The database must exist; its schema is created on first use
@@ -40,7 +61,10 @@ impl PostgresStore {
             .connect(url)
             .await?;
         sqlx::migrate!("./migrations/postgres").run(&pool).await?;
-        Ok(PostgresStore { pool })
+        Ok(PostgresStore {
+            pool,
+            listener: Default::default(),
+        })
     }
 
     /// A transaction holding the queue's structure lock until it ends.
@@ -86,12 +110,14 @@ impl Store for PostgresStore {
     async fn wake_on_new_work(&self, wake: Arc<Notify>) -> Result<(), StoreError> {
         let mut listener = PgListener::connect_with(&self.pool).await?;
         listener.listen(QUEUE_CHANNEL).await?;
-        tokio::spawn(async move {
+        // The listener holds one of the pool's connections for as long as it runs.
+        let task = tokio::spawn(async move {
             loop {
                 // recv() reconnects by itself after a dropped connection; notifications
                 // sent meanwhile are lost, which the workers' polling covers.
                 match listener.recv().await {
                     Ok(_) => wake.notify_waiters(),
+                    Err(sqlx::Error::PoolClosed) => return,
                     Err(e) => {
                         tracing::warn!(error = %e, "LISTEN connection failed; retrying in 1 s");
                         tokio::time::sleep(Duration::from_secs(1)).await;
@@ -99,6 +125,11 @@ impl Store for PostgresStore {
                 }
             }
         });
+        if let Ok(mut slot) = self.listener.lock() {
+            if let Some(previous) = slot.replace(task.abort_handle()) {
+                previous.abort();
+            }
+        }
         Ok(())
     }
 
@@ -194,28 +225,21 @@ impl Store for PostgresStore {
 
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError> {
         let now = now_ms();
-        let done = sqlx::query(
-            "UPDATE jobs SET state = 'cancelled', finished_at = $2, updated_at = $2, version = version + 1, \
-             cancel_requested = TRUE, error = $3 WHERE id = $1 AND state = 'queued'",
-        )
+        // One statement, so a job requeued meanwhile (a lease recovery elsewhere) is
+        // judged as it is now: queued ends cancelled, running gets the flag.
+        let state: Option<String> = sqlx::query_scalar(&format!(
+            "UPDATE jobs SET {CANCEL_SET}, updated_at = $2, version = version + 1 \
+             WHERE id = $1 AND (state = 'queued' OR (state = 'running' AND NOT cancel_requested)) \
+             RETURNING state"
+        ))
         .bind(id)
         .bind(now)
         .bind(cancelled_while_queued(None))
-        .execute(&self.pool)
-        .await?
-        .rows_affected();
-        if done == 0 {
-            sqlx::query(
-                "UPDATE jobs SET cancel_requested = TRUE, updated_at = $2, version = version + 1 \
-                 WHERE id = $1 AND state = 'running' AND NOT cancel_requested",
-            )
-            .bind(id)
-            .bind(now)
-            .execute(&self.pool)
-            .await?;
-        }
+        .fetch_optional(&self.pool)
+        .await?;
+        let done = state.as_deref() == Some("cancelled");
         let job = self.get_job(id).await?;
-        if job.state.is_finished() && !(job.state == JobState::Cancelled && done == 1) {
+        if job.state.is_finished() && !(job.state == JobState::Cancelled && done) {
             return Err(StoreError::Conflict {
                 id: job.id,
                 state: job.state,
@@ -267,14 +291,14 @@ impl Store for PostgresStore {
 
     async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {
         let now = now_ms();
-        let row = sqlx::query(
-            "UPDATE jobs SET state = 'running', owner = $1, lease_expires_at = $2, attempt = attempt + 1, \
+        let row = sqlx::query(&format!(
+            "UPDATE jobs SET state = 'running', owner = $1, lease_expires_at = {DB_NOW_MS} + $2, attempt = attempt + 1, \
                  started_at = COALESCE(started_at, $3), updated_at = $3, version = version + 1 \
              WHERE seq = (SELECT seq FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1 FOR UPDATE SKIP LOCKED) AND state = 'queued' \
-             RETURNING id, kind, attempt, input, input_blob, cancel_requested",
-        )
+             RETURNING id, kind, attempt, input, input_blob, cancel_requested"
+        ))
         .bind(owner)
-        .bind(now + lease_ms)
+        .bind(lease_ms)
         .bind(now)
         .fetch_optional(&self.pool)
         .await?;
@@ -293,16 +317,16 @@ impl Store for PostgresStore {
         } else {
             0.0
         };
-        let cancel: Option<bool> = sqlx::query_scalar(
-            "UPDATE jobs SET lease_expires_at = $4, progress = GREATEST(progress, $5), updated_at = $6, \
+        let cancel: Option<bool> = sqlx::query_scalar(&format!(
+            "UPDATE jobs SET lease_expires_at = {DB_NOW_MS} + $4, progress = GREATEST(progress, $5), updated_at = $6, \
                  version = version + (CASE WHEN progress < $5 THEN 1 ELSE 0 END) \
              WHERE id = $1 AND owner = $2 AND attempt = $3 AND state = 'running' \
-             RETURNING cancel_requested",
-        )
+             RETURNING cancel_requested"
+        ))
         .bind(&lease.id)
         .bind(&lease.owner)
         .bind(lease.attempt)
-        .bind(now + lease_ms)
+        .bind(lease_ms)
         .bind(progress)
         .bind(now)
         .fetch_optional(&self.pool)
@@ -376,39 +400,43 @@ impl Store for PostgresStore {
 
     async fn recover_expired(&self, max_attempts: i64) -> Result<u64, StoreError> {
         let now = now_ms();
-        // Every process runs this; each statement re-checks its rows after any lock wait,
-        // so two recoveries never act twice on one job.
+        // Every process runs this. Under the lock its three statements act on one view of
+        // the expired leases, and it cannot deadlock with a study's cancel, which updates
+        // many of the same rows.
+        let mut tx = self.locked().await?;
+        let expired = format!("state = 'running' AND lease_expires_at < {DB_NOW_MS}");
         // A job asked to cancel is not run again: it ends cancelled.
-        let cancelled = sqlx::query(
+        let cancelled = sqlx::query(&format!(
             "UPDATE jobs SET state = 'cancelled', error = $2, owner = NULL, lease_expires_at = NULL, \
                  finished_at = $1, updated_at = $1, version = version + 1 \
-             WHERE state = 'running' AND lease_expires_at < $1 AND cancel_requested",
-        )
+             WHERE {expired} AND cancel_requested"
+        ))
         .bind(now)
         .bind(CANCELLED_UNCONFIRMED)
-        .execute(&self.pool)
+        .execute(&mut *tx)
         .await?
         .rows_affected();
-        let failed = sqlx::query(
+        let failed = sqlx::query(&format!(
             "UPDATE jobs SET state = 'failed', error = $3, owner = NULL, lease_expires_at = NULL, \
                  finished_at = $1, updated_at = $1, version = version + 1 \
-             WHERE state = 'running' AND lease_expires_at < $1 AND attempt >= $2",
-        )
+             WHERE {expired} AND attempt >= $2"
+        ))
         .bind(now)
         .bind(max_attempts)
         .bind(lease_expired_error(max_attempts))
-        .execute(&self.pool)
+        .execute(&mut *tx)
         .await?
         .rows_affected();
-        let requeued = sqlx::query(
+        let requeued = sqlx::query(&format!(
             "UPDATE jobs SET state = 'queued', owner = NULL, lease_expires_at = NULL, updated_at = $1, \
                  version = version + 1 \
-             WHERE state = 'running' AND lease_expires_at < $1",
-        )
+             WHERE {expired}"
+        ))
         .bind(now)
-        .execute(&self.pool)
+        .execute(&mut *tx)
         .await?
         .rows_affected();
+        tx.commit().await?;
         Ok(failed + cancelled + requeued)
     }
 
@@ -423,14 +451,16 @@ impl Store for PostgresStore {
     }
 
     async fn stored_bytes(&self) -> Result<i64, StoreError> {
+        // As SQLite's LENGTH(): characters of text (JSON, nearly all ASCII), bytes of
+        // bytea; both read a large value's size from its header.
         let jobs: i64 = sqlx::query_scalar(
-            "SELECT COALESCE(SUM(octet_length(input) + COALESCE(octet_length(input_blob), 0) \
-                 + COALESCE(octet_length(result), 0) + COALESCE(octet_length(stats), 0)), 0)::BIGINT FROM jobs",
+            "SELECT COALESCE(SUM(length(input) + COALESCE(octet_length(input_blob), 0) \
+                 + COALESCE(length(result), 0) + COALESCE(length(stats), 0)), 0)::BIGINT FROM jobs",
         )
         .fetch_one(&self.pool)
         .await?;
         let artifacts: i64 = sqlx::query_scalar(
-            "SELECT COALESCE(SUM(octet_length(data) + octet_length(meta)), 0)::BIGINT FROM artifacts",
+            "SELECT COALESCE(SUM(octet_length(data) + length(meta)), 0)::BIGINT FROM artifacts",
         )
         .fetch_one(&self.pool)
         .await?;
@@ -642,21 +672,14 @@ impl Store for PostgresStore {
         let ours = "id IN (SELECT job_id FROM study_points WHERE study_id = $1) \
              AND NOT EXISTS (SELECT 1 FROM study_points o JOIN studies s ON s.id = o.study_id \
                  WHERE o.job_id = jobs.id AND o.study_id <> $1 AND NOT s.cancel_requested)";
+        // One statement (see request_cancel): a point requeued meanwhile is not missed.
         sqlx::query(&format!(
-            "UPDATE jobs SET state = 'cancelled', finished_at = $2, updated_at = $2, version = version + 1, \
-             cancel_requested = TRUE, error = $3 WHERE state = 'queued' AND {ours}"
+            "UPDATE jobs SET {CANCEL_SET}, updated_at = $2, version = version + 1 \
+             WHERE (state = 'queued' OR (state = 'running' AND NOT cancel_requested)) AND {ours}"
         ))
         .bind(id)
         .bind(now)
         .bind(cancelled_while_queued(Some(id)))
-        .execute(&mut *tx)
-        .await?;
-        sqlx::query(&format!(
-            "UPDATE jobs SET cancel_requested = TRUE, updated_at = $2, version = version + 1 \
-             WHERE state = 'running' AND NOT cancel_requested AND {ours}"
-        ))
-        .bind(id)
-        .bind(now)
         .execute(&mut *tx)
         .await?;
         tx.commit().await?;

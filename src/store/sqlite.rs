@@ -166,28 +166,24 @@ impl Store for SqliteStore {
 
     async fn request_cancel(&self, id: &str) -> Result<Job, StoreError> {
         let now = now_ms();
-        let done = sqlx::query(
-            "UPDATE jobs SET state = 'cancelled', finished_at = ?2, updated_at = ?2, version = version + 1, \
-             cancel_requested = 1, error = ?3 WHERE id = ?1 AND state = 'queued'",
+        // One statement, so a job requeued meanwhile (a lease recovery in another process)
+        // is judged as it is now: queued ends cancelled, running gets the flag.
+        let state: Option<String> = sqlx::query_scalar(
+            "UPDATE jobs SET state = CASE WHEN state = 'queued' THEN 'cancelled' ELSE state END, \
+                 finished_at = CASE WHEN state = 'queued' THEN ?2 ELSE finished_at END, \
+                 error = CASE WHEN state = 'queued' THEN ?3 ELSE error END, \
+                 cancel_requested = 1, updated_at = ?2, version = version + 1 \
+             WHERE id = ?1 AND (state = 'queued' OR (state = 'running' AND cancel_requested = 0)) \
+             RETURNING state",
         )
         .bind(id)
         .bind(now)
         .bind(cancelled_while_queued(None))
-        .execute(&self.pool)
-        .await?
-        .rows_affected();
-        if done == 0 {
-            sqlx::query(
-                "UPDATE jobs SET cancel_requested = 1, updated_at = ?2, version = version + 1 \
-                 WHERE id = ?1 AND state = 'running' AND cancel_requested = 0",
-            )
-            .bind(id)
-            .bind(now)
-            .execute(&self.pool)
-            .await?;
-        }
+        .fetch_optional(&self.pool)
+        .await?;
+        let done = state.as_deref() == Some("cancelled");
         let job = self.get_job(id).await?;
-        if job.state.is_finished() && !(job.state == JobState::Cancelled && done == 1) {
+        if job.state.is_finished() && !(job.state == JobState::Cancelled && done) {
             return Err(StoreError::Conflict {
                 id: job.id,
                 state: job.state,

@@ -70,12 +70,19 @@ impl PgCluster {
         // SAFETY: geteuid has no preconditions and cannot fail.
         let root = unsafe { libc::geteuid() } == 0;
         let run_as = root.then(|| "postgres".to_string());
-        let base = std::env::temp_dir().join(format!(
-            "bearing-sim-pg-{}-{}",
-            std::process::id(),
-            uuid::Uuid::new_v4().simple()
-        ));
+        // The server runs as `postgres` when we are root, so its directory must be where
+        // that user can reach it: /tmp, not a TMPDIR under /root. Short, for the socket
+        // path's 107-byte limit.
+        let tmp = if root {
+            PathBuf::from("/tmp")
+        } else {
+            std::env::temp_dir()
+        };
+        let id = uuid::Uuid::new_v4().simple().to_string();
+        let base = tmp.join(format!("bearing-sim-pg-{}", &id[..12]));
         std::fs::create_dir_all(&base).map_err(|e| format!("temporary directory: {e}"))?;
+        let data = base.join("data");
+        let port = 5432;
         if let Some(user) = &run_as {
             let ok = Command::new("chown")
                 .arg(user)
@@ -90,14 +97,14 @@ impl PgCluster {
                 ));
             }
         }
-        let data = base.join("data");
-        let port = 5432;
         let c = PgCluster {
             bin,
             socket_dir: base.clone(),
             run_as,
             port,
         };
+        // Armed first: whatever happens next, the directory goes when this process does.
+        c.watch_for_exit(&data, &base);
         // Durability is not under test here: fsync off makes initdb and the suite fast.
         c.run(
             "initdb",
@@ -114,7 +121,7 @@ impl PgCluster {
             ],
         )?;
         let opts = format!(
-            "-k {} -p {port} -c listen_addresses='' -c fsync=off -c synchronous_commit=off \
+            "-k '{}' -p {port} -c listen_addresses='' -c fsync=off -c synchronous_commit=off \
              -c full_page_writes=off -c max_connections=300",
             base.display()
         );
@@ -131,7 +138,6 @@ impl PgCluster {
                 "start".as_ref(),
             ],
         )?;
-        c.watch_for_exit(&data, &base);
         Ok(c)
     }
 
@@ -146,8 +152,11 @@ impl PgCluster {
             }
             None => Command::new(&exe),
         };
+        // In a directory the server's user can read: PostgreSQL 15's programs fail when
+        // they cannot resolve the working directory (a checkout under /root, mode 700).
         let out = cmd
             .args(args)
+            .current_dir(&self.socket_dir)
             .stdin(Stdio::null())
             .output()
             .map_err(|e| format!("{program}: {e}"))?;
@@ -184,6 +193,7 @@ impl PgCluster {
         );
         let _ = Command::new("sh")
             .args(["-c", &script])
+            .current_dir(base)
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::null())
