@@ -175,10 +175,8 @@ impl Store for PostgresStore {
             .bind(key)
             .fetch_optional(&self.pool)
             .await?;
-            if let Some((id, hash, kind)) = row {
-                if hash.as_deref() != Some(job.request_hash.as_str()) || kind != job.kind.as_str() {
-                    return Err(StoreError::IdempotencyMismatch(id));
-                }
+            if let Some(stored) = row {
+                let id = replay_of(stored, &job)?;
                 let existing = self.fetch_job(&id).await?.ok_or(StoreError::NotFound(id))?;
                 return Ok(Created {
                     job: existing,
@@ -210,16 +208,11 @@ impl Store for PostgresStore {
         .bind(f.tenant.as_deref())
         .fetch_all(&self.pool)
         .await?;
-        let mut jobs = rows
+        let jobs = rows
             .iter()
             .map(job_from_row)
             .collect::<Result<Vec<_>, _>>()?;
-        let next = if jobs.len() as i64 > limit {
-            jobs.truncate(limit as usize);
-            jobs.last().map(|j| j.seq)
-        } else {
-            None
-        };
+        let (jobs, next) = page_of(jobs, limit, |j| j.seq);
         Ok(Page { jobs, next })
     }
 
@@ -238,15 +231,7 @@ impl Store for PostgresStore {
         .fetch_optional(&self.pool)
         .await?;
         let done = state.as_deref() == Some("cancelled");
-        let job = self.get_job(id).await?;
-        if job.state.is_finished() && !(job.state == JobState::Cancelled && done) {
-            return Err(StoreError::Conflict {
-                id: job.id,
-                state: job.state,
-                message: "only queued or running jobs can be cancelled".into(),
-            });
-        }
-        Ok(job)
+        cancel_answer(self.get_job(id).await?, done)
     }
 
     async fn delete_job(&self, id: &str) -> Result<(), StoreError> {
@@ -271,22 +256,7 @@ impl Store for PostgresStore {
                 .fetch_optional(&mut *tx)
                 .await?;
         tx.rollback().await?;
-        let job = self.get_job(id).await?;
-        if job.state.is_finished() {
-            return Err(StoreError::Conflict {
-                id: job.id,
-                state: job.state,
-                message: format!(
-                    "it is a point of study {}; delete the study instead",
-                    study.unwrap_or_default()
-                ),
-            });
-        }
-        Err(StoreError::Conflict {
-            id: job.id,
-            state: job.state,
-            message: "only finished jobs can be deleted; cancel it first".into(),
-        })
+        Err(delete_refusal(self.get_job(id).await?, study))
     }
 
     async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {

@@ -235,3 +235,63 @@ pub(super) fn cancelled_while_queued(study: Option<&str>) -> String {
 /// The error of a job asked to cancel whose worker stopped before confirming.
 pub(super) const CANCELLED_UNCONFIRMED: &str =
     r#"{"kind":"cancelled","message":"cancelled (its worker stopped before confirming)"}"#;
+
+/// The decisions both backends make alike, apart from their SQL.
+///
+/// A page of `limit` items from up to `limit + 1` rows (newest first); the cursor is the
+/// last item's `seq` when there was one more.
+pub(super) fn page_of<T>(
+    mut items: Vec<T>,
+    limit: i64,
+    seq: impl Fn(&T) -> i64,
+) -> (Vec<T>, Option<i64>) {
+    if items.len() as i64 > limit {
+        items.truncate(limit as usize);
+        let next = items.last().map(&seq);
+        (items, next)
+    } else {
+        (items, None)
+    }
+}
+
+/// A submission whose idempotency key names the stored job `(id, request_hash, kind)`:
+/// the same request (a replay of that job) or `IdempotencyMismatch`.
+pub(super) fn replay_of(
+    stored: (String, Option<String>, String),
+    job: &NewJob,
+) -> Result<String, StoreError> {
+    let (id, hash, kind) = stored;
+    if hash.as_deref() != Some(job.request_hash.as_str()) || kind != job.kind.as_str() {
+        return Err(StoreError::IdempotencyMismatch(id));
+    }
+    Ok(id)
+}
+
+/// The answer to a cancel, from the job after it: `cancelled_now` when this cancel ended it.
+pub(super) fn cancel_answer(job: Job, cancelled_now: bool) -> Result<Job, StoreError> {
+    if job.state.is_finished() && !(job.state == JobState::Cancelled && cancelled_now) {
+        return Err(StoreError::Conflict {
+            id: job.id,
+            state: job.state,
+            message: "only queued or running jobs can be cancelled".into(),
+        });
+    }
+    Ok(job)
+}
+
+/// Why a job could not be deleted: unfinished, or a point of `study`.
+pub(super) fn delete_refusal(job: Job, study: Option<String>) -> StoreError {
+    let message = if job.state.is_finished() {
+        format!(
+            "it is a point of study {}; delete the study instead",
+            study.unwrap_or_default()
+        )
+    } else {
+        "only finished jobs can be deleted; cancel it first".into()
+    };
+    StoreError::Conflict {
+        id: job.id,
+        state: job.state,
+        message,
+    }
+}

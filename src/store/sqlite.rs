@@ -108,18 +108,13 @@ impl Store for SqliteStore {
             return Ok(Created { job, created: true });
         }
         if let Some(key) = &scoped_key {
-            let row =
-                sqlx::query("SELECT id, request_hash, kind FROM jobs WHERE idempotency_key = ?")
+            let stored: Option<(String, Option<String>, String)> =
+                sqlx::query_as("SELECT id, request_hash, kind FROM jobs WHERE idempotency_key = ?")
                     .bind(key)
                     .fetch_optional(&self.pool)
                     .await?;
-            if let Some(row) = row {
-                let id: String = row.try_get("id")?;
-                let hash: Option<String> = row.try_get("request_hash")?;
-                let kind: String = row.try_get("kind")?;
-                if hash.as_deref() != Some(job.request_hash.as_str()) || kind != job.kind.as_str() {
-                    return Err(StoreError::IdempotencyMismatch(id));
-                }
+            if let Some(stored) = stored {
+                let id = replay_of(stored, &job)?;
                 let existing = self.fetch_job(&id).await?.ok_or(StoreError::NotFound(id))?;
                 return Ok(Created {
                     job: existing,
@@ -151,16 +146,11 @@ impl Store for SqliteStore {
         .bind(f.tenant.as_deref())
         .fetch_all(&self.pool)
         .await?;
-        let mut jobs = rows
+        let jobs = rows
             .iter()
             .map(job_from_row)
             .collect::<Result<Vec<_>, _>>()?;
-        let next = if jobs.len() as i64 > limit {
-            jobs.truncate(limit as usize);
-            jobs.last().map(|j| j.seq)
-        } else {
-            None
-        };
+        let (jobs, next) = page_of(jobs, limit, |j| j.seq);
         Ok(Page { jobs, next })
     }
 
@@ -182,15 +172,7 @@ impl Store for SqliteStore {
         .fetch_optional(&self.pool)
         .await?;
         let done = state.as_deref() == Some("cancelled");
-        let job = self.get_job(id).await?;
-        if job.state.is_finished() && !(job.state == JobState::Cancelled && done) {
-            return Err(StoreError::Conflict {
-                id: job.id,
-                state: job.state,
-                message: "only queued or running jobs can be cancelled".into(),
-            });
-        }
-        Ok(job)
+        cancel_answer(self.get_job(id).await?, done)
     }
 
     async fn delete_job(&self, id: &str) -> Result<(), StoreError> {
@@ -203,28 +185,12 @@ impl Store for SqliteStore {
         .await?
         .rows_affected();
         if n == 0 {
-            let job = self.get_job(id).await?;
-            if job.state.is_finished() {
-                let study: Option<String> = sqlx::query_scalar(
-                    "SELECT study_id FROM study_points WHERE job_id = ? LIMIT 1",
-                )
-                .bind(id)
-                .fetch_optional(&self.pool)
-                .await?;
-                return Err(StoreError::Conflict {
-                    id: job.id,
-                    state: job.state,
-                    message: format!(
-                        "it is a point of study {}; delete the study instead",
-                        study.unwrap_or_default()
-                    ),
-                });
-            }
-            return Err(StoreError::Conflict {
-                id: job.id,
-                state: job.state,
-                message: "only finished jobs can be deleted; cancel it first".into(),
-            });
+            let study: Option<String> =
+                sqlx::query_scalar("SELECT study_id FROM study_points WHERE job_id = ? LIMIT 1")
+                    .bind(id)
+                    .fetch_optional(&self.pool)
+                    .await?;
+            return Err(delete_refusal(self.get_job(id).await?, study));
         }
         Ok(())
     }

@@ -8,10 +8,23 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// A `bearing-sim serve` process and the base URL it listens on.
 pub struct Server {
-    child: Child,
+    process: Process,
     pub base: String,
-    pub log: PathBuf,
+}
+
+impl std::ops::Deref for Server {
+    type Target = Process;
+    fn deref(&self) -> &Process {
+        &self.process
+    }
+}
+
+impl std::ops::DerefMut for Server {
+    fn deref_mut(&mut self) -> &mut Process {
+        &mut self.process
+    }
 }
 
 /// A log file next to `db` that no other process of this test writes.
@@ -65,22 +78,13 @@ fn spawn_until(
     (child, rest)
 }
 
-/// A `bearing-sim worker` process (job workers only, no HTTP).
-pub struct WorkerProcess {
+/// A child `bearing-sim` process and its log file; killed (SIGKILL) when dropped.
+pub struct Process {
     child: Child,
     pub log: PathBuf,
 }
 
-impl WorkerProcess {
-    /// Start workers on the database at `url`; returns once they run.
-    pub fn start(url: &str, log: &Path, args: &[&str]) -> WorkerProcess {
-        let (child, _) = spawn_until(&["worker"], url, log, args, "worker ready:");
-        WorkerProcess {
-            child,
-            log: log.to_path_buf(),
-        }
-    }
-
+impl Process {
     pub fn pid(&self) -> u32 {
         self.child.id()
     }
@@ -104,9 +108,36 @@ impl WorkerProcess {
     }
 }
 
-impl Drop for WorkerProcess {
+impl Drop for Process {
     fn drop(&mut self) {
         self.kill();
+    }
+}
+
+/// A `bearing-sim worker` process (job workers only, no HTTP).
+pub struct WorkerProcess(Process);
+
+impl WorkerProcess {
+    /// Start workers on the database at `url`; returns once they run.
+    pub fn start(url: &str, log: &Path, args: &[&str]) -> WorkerProcess {
+        let (child, _) = spawn_until(&["worker"], url, log, args, "worker ready:");
+        WorkerProcess(Process {
+            child,
+            log: log.to_path_buf(),
+        })
+    }
+}
+
+impl std::ops::Deref for WorkerProcess {
+    type Target = Process;
+    fn deref(&self) -> &Process {
+        &self.0
+    }
+}
+
+impl std::ops::DerefMut for WorkerProcess {
+    fn deref_mut(&mut self) -> &mut Process {
+        &mut self.0
     }
 }
 
@@ -126,42 +157,16 @@ impl Server {
             "listening on ",
         );
         Server {
-            child,
+            process: Process {
+                child,
+                log: log.to_path_buf(),
+            },
             base,
-            log: log.to_path_buf(),
         }
     }
 
     pub fn url(&self, path: &str) -> String {
         format!("{}{}", self.base, path)
-    }
-
-    pub fn pid(&self) -> u32 {
-        self.child.id()
-    }
-
-    /// SIGKILL: no shutdown code runs, as in a crash.
-    pub fn kill(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-
-    /// SIGTERM and wait for the process to exit.
-    pub fn terminate(&mut self) -> std::process::ExitStatus {
-        let _ = Command::new("kill")
-            .args(["-TERM", &self.child.id().to_string()])
-            .status();
-        self.child.wait().unwrap()
-    }
-
-    pub fn log(&self) -> String {
-        std::fs::read_to_string(&self.log).unwrap_or_default()
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        self.kill();
     }
 }
 
@@ -177,7 +182,7 @@ impl Service for Server {
         Server::url(self, path)
     }
     fn log(&self) -> String {
-        Server::log(self)
+        Process::log(self)
     }
 }
 
