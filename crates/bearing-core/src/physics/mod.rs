@@ -6,6 +6,7 @@ pub mod cage_land;
 pub mod cage_pocket;
 pub mod defect;
 pub mod drag;
+pub mod exp;
 pub mod frames;
 pub mod hertz;
 pub mod kinematics;

@@ -2,6 +2,7 @@
 //! an elastic-plastic film law from the lubricant's properties (docs/model.md, "Traction
 //! laws").
 
+use super::exp::exp;
 use super::hertz::HertzContact;
 use std::f64::consts::PI;
 
@@ -22,23 +23,17 @@ impl TractionCurve {
     /// Coefficient at slip speed `s` >= 0, -.
     #[inline]
     pub fn mu(&self, s: f64) -> f64 {
-        let mu = (self.a + self.b * s) * (-self.c * s).exp() + self.d;
-        if s < SLIP_REGULARIZATION {
-            mu * s / SLIP_REGULARIZATION
-        } else {
-            mu
-        }
+        self.mu_over_s(s) * s
     }
 
     /// `mu(s) / s`, finite at s = 0: multiplies the slip vector to give the traction direction
-    /// and magnitude without dividing by a vanishing speed, 1/(m/s).
+    /// and magnitude without dividing by a vanishing speed, 1/(m/s). Branch-free, with the
+    /// inlined exponential: it runs once per strip, the engine's innermost loop.
     #[inline]
     pub fn mu_over_s(&self, s: f64) -> f64 {
-        if s < SLIP_REGULARIZATION {
-            ((self.a + self.b * s) * (-self.c * s).exp() + self.d) / SLIP_REGULARIZATION
-        } else {
-            self.mu(s) / s
-        }
+        let mu = (self.a + self.b * s) * exp(-self.c * s) + self.d;
+        // below the regularisation speed mu is scaled by s / SLIP_REGULARIZATION
+        mu / s.max(SLIP_REGULARIZATION)
     }
 }
 
