@@ -153,6 +153,53 @@ async fn a_worker_killed_mid_job_loses_it_to_another_after_the_lease() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn two_api_nodes_answer_for_each_other_and_long_polls_see_the_other_nodes_changes() {
+    let Some((dir, url)) = database().await else {
+        return;
+    };
+    let a = Server::start_on(&url, &dir.path().join("a.log"), &["--workers", "0"]);
+    let b = Server::start_on(&url, &dir.path().join("b.log"), &["--workers", "0"]);
+    let c = client();
+    // no workers anywhere: the job stays queued until it is cancelled
+    let id = submit(&c, &a, &short_scene(0.02)).await;
+    let job_on = |s: &Server| s.url(&format!("/v1/simulations/{id}"));
+    let (status, headers, job) = get_json(&c, &job_on(&b)).await;
+    assert_eq!(
+        (status, job["state"].as_str()),
+        (200, Some("queued")),
+        "{job}"
+    );
+    let etag = headers["etag"].to_str().unwrap().to_string();
+
+    // a long poll on node A answers when node B cancels the job
+    let poll = {
+        let (c, url, etag) = (c.clone(), job_on(&a), etag.clone());
+        tokio::spawn(async move {
+            c.get(format!("{url}?wait=30"))
+                .header("if-none-match", etag)
+                .send()
+                .await
+                .unwrap()
+        })
+    };
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let r = c
+        .post(b.url(&format!("/v1/simulations/{id}/cancel")))
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 202);
+    let r = poll.await.unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.json::<Value>().await.unwrap()["state"], "cancelled");
+    // and each node lists it
+    for node in [&a, &b] {
+        let (_, _, page) = get_json(&c, &node.url("/v1/simulations")).await;
+        assert_eq!(page["items"][0]["id"], id.as_str(), "{page}");
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_worker_refuses_zero_workers_and_a_bad_database_url() {
     let bin = env!("CARGO_BIN_EXE_bearing-sim");
     for (args, expect) in [
