@@ -643,16 +643,7 @@ async fn long_poll_holds_an_unchanged_job_until_it_changes() {
     );
 
     // A change during the wait answers at once with the new state.
-    let poll = {
-        let (c, url, etag) = (c.clone(), url.clone(), etag.clone());
-        tokio::spawn(async move {
-            c.get(format!("{url}?wait=30"))
-                .header("if-none-match", etag)
-                .send()
-                .await
-                .unwrap()
-        })
-    };
+    let poll = spawn_long_poll(&c, &url, &etag);
     tokio::time::sleep(Duration::from_millis(300)).await;
     c.post(s.url(&format!("/v1/simulations/{id}/cancel")))
         .send()

@@ -172,16 +172,7 @@ async fn two_api_nodes_answer_for_each_other_and_long_polls_see_the_other_nodes_
     let etag = headers["etag"].to_str().unwrap().to_string();
 
     // a long poll on node A answers when node B cancels the job
-    let poll = {
-        let (c, url, etag) = (c.clone(), job_on(&a), etag.clone());
-        tokio::spawn(async move {
-            c.get(format!("{url}?wait=30"))
-                .header("if-none-match", etag)
-                .send()
-                .await
-                .unwrap()
-        })
-    };
+    let poll = spawn_long_poll(&c, &job_on(&a), &etag);
     tokio::time::sleep(Duration::from_millis(300)).await;
     let r = c
         .post(b.url(&format!("/v1/simulations/{id}/cancel")))

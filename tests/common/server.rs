@@ -232,6 +232,23 @@ pub async fn post_json(
     decode(c.post(url).json(body).send().await.unwrap()).await
 }
 
+/// A long poll started in the background: `GET url?wait=30` with `If-None-Match: etag`,
+/// answered when the resource changes (or after 30 s with 304).
+pub fn spawn_long_poll(
+    c: &reqwest::Client,
+    url: &str,
+    etag: &str,
+) -> tokio::task::JoinHandle<reqwest::Response> {
+    let (c, url, etag) = (c.clone(), url.to_string(), etag.to_string());
+    tokio::spawn(async move {
+        c.get(format!("{url}?wait=30"))
+            .header("if-none-match", etag)
+            .send()
+            .await
+            .unwrap()
+    })
+}
+
 pub async fn get_json(c: &reqwest::Client, url: &str) -> (u16, reqwest::header::HeaderMap, Value) {
     decode(c.get(url).send().await.unwrap()).await
 }
