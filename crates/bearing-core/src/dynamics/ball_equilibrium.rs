@@ -69,7 +69,8 @@ fn contact_in_plane(
     if q == 0.0 {
         return free();
     }
-    let cos_psi = eff.psi.cos();
+    // off a defect edge the load is normal (psi = 0 exactly), and cos(0) = 1 needs no libm call
+    let cos_psi = if eff.psi == 0.0 { 1.0 } else { eff.psi.cos() };
     let fq = q * cos_psi;
     // d(-q u)/dp = -(dq/d delta) u u^T - (q / dist) (I - u u^T); u is the unit vector
     // from the curvature centre through the ball centre, dist their distance.
