@@ -90,6 +90,7 @@ stress_tests!(
     very_viscous,
     from_rest,
     fast_ramp_whirl,
+    fast_ramp_auto,
     long_run,
     too_long_run,
     fine_output,
