@@ -112,6 +112,7 @@ impl<M> Solver<M> {
     {
         let lim = self.limits;
         loop {
+            let proposal = self.h;
             let remaining = lim.t_end - self.t;
             let mut h = if self.method.controlled() {
                 self.h.min(lim.max_step).min(sys.max_step(self.t, &self.y))
@@ -146,7 +147,15 @@ impl<M> Solver<M> {
                 continue;
             }
             if self.method.controlled() {
-                self.h = h * self.method.accept_factor(err);
+                let next = h * self.method.accept_factor(err);
+                // A step cut short by a bound (a defect point, the end) says nothing against
+                // the longer step the controller had proposed: keep that proposal unless the
+                // short step's own error asks for less.
+                self.h = if h < proposal && next >= h {
+                    next.max(proposal)
+                } else {
+                    next
+                };
             }
             std::mem::swap(&mut self.y_prev, &mut self.y);
             std::mem::swap(&mut self.f_prev, &mut self.f);
