@@ -418,3 +418,40 @@ fn progress_is_reported_up_to_one() {
     assert_eq!(last, 1.0);
     assert!(calls >= 1);
 }
+
+/// The acceleration channels come from `pedestal_acceleration` (the outer ring's forces
+/// only) unless a contact-load channel asks for the whole right-hand side. Both must give
+/// the same samples bit for bit, at every fidelity level and for every cage guidance (the
+/// land and, with a concentric cage, the pocket loads reach the outer ring differently).
+#[test]
+fn acceleration_channels_are_the_same_without_the_whole_right_hand_side() {
+    use bearing_core::scene::CageGuidance;
+    for guidance in [CageGuidance::OuterLand, CageGuidance::InnerLand, CageGuidance::Ball] {
+        for level in [
+            Fidelity::Full,
+            Fidelity::QuasiStaticBalls,
+            Fidelity::ConcentricCage,
+        ] {
+            let mut s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+            s.solver.duration = 3e-3;
+            s.solver.fidelity = level;
+            s.bearing.cage.guidance = guidance;
+            if guidance == CageGuidance::InnerLand {
+                // a land just inside the cage bore, at the preset's 0.2 mm clearance
+                s.bearing.inner_land_diameter = s.bearing.cage.inner_diameter - 2e-4;
+            }
+            let accel_only = run(&s);
+            s.outputs.contact_loads_ball = Some(0);
+            let with_loads = run(&s);
+            for name in ["outer_ring_accel_y", "outer_ring_accel_z"] {
+                let a = &accel_only.channels.get(name).unwrap().data;
+                let b = &with_loads.channels.get(name).unwrap().data;
+                assert!(a.len() > 100, "{guidance:?} {level:?}: {} samples", a.len());
+                assert!(
+                    a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()),
+                    "{guidance:?} {level:?}: {name} differs"
+                );
+            }
+        }
+    }
+}

@@ -115,18 +115,17 @@ pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
     }
 }
 
-/// Evaluate the derivative. `dy` must have the state's length.
-pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut Diagnostics>) {
-    let l = &m.layout;
-    let (inner, outer) = ring_motions(m, t, y);
-    let cage = if m.concentric_cage {
-        // held on the guiding ring's axis (the outer ring for a ball-guided cage)
+/// The cage as the contact functions see it: from the state, or on the guiding ring's
+/// axis with a concentric cage (the outer ring for a ball-guided cage).
+#[inline]
+fn cage_at(m: &Model, y: &[f64], inner: &RingMotion, outer: &RingMotion) -> CageMotion {
+    if m.concentric_cage {
         let ring = if m.cage_guided_by_inner() {
-            &inner
+            inner
         } else {
-            &outer
+            outer
         };
-        let c = l.cage;
+        let c = m.layout.cage;
         CageMotion {
             centre: Vector3::new(y[c + cage::X], ring.centre.y, ring.centre.z),
             velocity: Vector3::new(0.0, ring.velocity.y, ring.velocity.z),
@@ -136,7 +135,133 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         }
     } else {
         cage_motion(m, y)
-    };
+    }
+}
+
+/// Ball `j` as the contact functions see it: from the state, or with quasi-static balls at
+/// its equilibrium between the rings (`ball_equilibrium`, from the last accepted position).
+#[inline]
+fn ball_at(
+    m: &Model,
+    y: &[f64],
+    j: usize,
+    az: &Azimuth,
+    inner: &RingMotion,
+    outer: &RingMotion,
+) -> BallMotion {
+    let b = m.layout.ball(j);
+    if m.quasi_static_balls {
+        let thd = y[b + ball::THETA_DOT];
+        let other = [y[b + ball::X_DOT], y[b + ball::R_DOT]];
+        let [x, r] = ball_equilibrium(
+            m,
+            inner,
+            outer,
+            az,
+            thd,
+            [y[b + ball::X], y[b + ball::R]],
+            other,
+        );
+        BallMotion {
+            centre: Vector3::new(x, 0.0, 0.0) + r * az.e_r(),
+            velocity: r * thd * az.e_t(),
+            omega: az.from_frame(&Vector3::new(
+                y[b + ball::W_X],
+                y[b + ball::W_R],
+                y[b + ball::W_T],
+            )),
+        }
+    } else {
+        ball_motion(y, b, az)
+    }
+}
+
+/// Pedestal acceleration `[y, z]` (m/s^2, eq. 29) from the outer ring's forces alone.
+#[inline]
+fn pedestal_accel(m: &Model, y: &[f64], f_outer: &Vector3<f64>) -> [f64; 2] {
+    let o = m.layout.outer;
+    [
+        (f_outer.y - m.pedestal_k[0] * y[o + outer::Y] - m.pedestal_c[0] * y[o + outer::Y_DOT])
+            / m.pedestal_mass,
+        (f_outer.z - m.pedestal_k[1] * y[o + outer::Z] - m.pedestal_c[1] * y[o + outer::Z_DOT])
+            / m.pedestal_mass,
+    ]
+}
+
+/// The pedestal acceleration `[y, z]` (m/s^2) alone, equal bit for bit to the one [`rhs`]
+/// writes (the same forces summed in the same order), for what the acceleration channels
+/// need: the outer-race contacts and, where they reach the outer ring, the cage land and a
+/// concentric cage's pocket loads; no inner-race contact, no ball or cage derivative.
+pub fn pedestal_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
+    let (inner, outer) = ring_motions(m, t, y);
+    let cage = cage_at(m, y, &inner, &outer);
+    let cage_az = Azimuth::new(cage.spin_angle);
+    // a concentric cage guided by the outer ring passes its radial load there
+    let pockets_reach_outer = m.concentric_cage && !m.cage_guided_by_inner();
+    let mut f_outer = Vector3::zeros();
+    let mut f_cage = Vector3::zeros();
+    for j in 0..m.z {
+        let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
+        let ball = ball_at(m, y, j, &az, &inner, &outer);
+        f_outer += race_contact(&m.outer_race, &outer, &ball, &m.contact).force_on_ring;
+        if pockets_reach_outer {
+            let pc = pocket_contact(
+                &m.pocket,
+                &cage,
+                &cage_az.plus(&m.pocket_azimuths[j]),
+                &ball.centre,
+                &ball.velocity,
+                &ball.omega,
+            );
+            f_cage += pc.force_on_cage;
+        }
+    }
+    if let Some(lp) = &m.land {
+        if m.land_on_outer || pockets_reach_outer {
+            let ring = if m.land_on_outer { &outer } else { &inner };
+            let lr = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring));
+            f_cage += lr.force_on_cage;
+            if m.land_on_outer {
+                f_outer -= lr.force_on_cage;
+            }
+        }
+    }
+    if pockets_reach_outer {
+        f_outer += Vector3::new(0.0, f_cage.y, f_cage.z);
+    }
+    pedestal_accel(m, y, &f_outer)
+}
+
+/// The cage's axis as the land sees it.
+#[inline]
+fn cage_axis(cage: &CageMotion) -> AxisMotion {
+    AxisMotion {
+        centre: cage.centre,
+        velocity: cage.velocity,
+        axis: cage.rot * Vector3::x(),
+        tilt_rate: Vector3::new(0.0, cage.omega.y, cage.omega.z),
+        spin: cage.omega.x,
+    }
+}
+
+/// A ring's axis as the land sees it.
+#[inline]
+fn ring_axis(ring: &RingMotion) -> AxisMotion {
+    AxisMotion {
+        centre: ring.centre,
+        velocity: ring.velocity,
+        axis: ring.rot * Vector3::x(),
+        // ring tilt rates do not enter surface velocities (docs/model.md)
+        tilt_rate: Vector3::zeros(),
+        spin: ring.spin,
+    }
+}
+
+/// Evaluate the derivative. `dy` must have the state's length.
+pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut Diagnostics>) {
+    let l = &m.layout;
+    let (inner, outer) = ring_motions(m, t, y);
+    let cage = cage_at(m, y, &inner, &outer);
     let cage_az = Azimuth::new(cage.spin_angle);
     let mut f_inner = Vector3::zeros();
     let mut m_inner = Vector3::zeros();
@@ -149,30 +274,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     for j in 0..m.z {
         let b = l.ball(j);
         let az = Azimuth::new(y[b + ball::THETA]);
-        let ball = if m.quasi_static_balls {
-            let thd = y[b + ball::THETA_DOT];
-            let other = [y[b + ball::X_DOT], y[b + ball::R_DOT]];
-            let [x, r] = ball_equilibrium(
-                m,
-                &inner,
-                &outer,
-                &az,
-                thd,
-                [y[b + ball::X], y[b + ball::R]],
-                other,
-            );
-            BallMotion {
-                centre: Vector3::new(x, 0.0, 0.0) + r * az.e_r(),
-                velocity: r * thd * az.e_t(),
-                omega: az.from_frame(&Vector3::new(
-                    y[b + ball::W_X],
-                    y[b + ball::W_R],
-                    y[b + ball::W_T],
-                )),
-            }
-        } else {
-            ball_motion(y, b, &az)
-        };
+        let ball = ball_at(m, y, j, &az, &inner, &outer);
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
         let pc = pocket_contact(
@@ -248,25 +350,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     let mut land_ecc = 0.0;
     if let Some(lp) = &m.land {
         let ring = if m.land_on_outer { &outer } else { &inner };
-        let ex = Vector3::x();
-        let lr = land_on_cage(
-            lp,
-            &AxisMotion {
-                centre: cage.centre,
-                velocity: cage.velocity,
-                axis: cage.rot * ex,
-                tilt_rate: Vector3::new(0.0, cage.omega.y, cage.omega.z),
-                spin: cage.omega.x,
-            },
-            &AxisMotion {
-                centre: ring.centre,
-                velocity: ring.velocity,
-                axis: ring.rot * ex,
-                // ring tilt rates do not enter surface velocities (docs/model.md)
-                tilt_rate: Vector3::zeros(),
-                spin: ring.spin,
-            },
-        );
+        let lr = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring));
         f_cage += lr.force_on_cage;
         m_cage += lr.moment_on_cage;
         cage_torque_x = lr.torque_on_cage;
@@ -316,12 +400,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
 
     // Outer ring on its pedestal, eq. 29.
     let o = l.outer;
-    let ay =
-        (f_outer.y - m.pedestal_k[0] * y[o + outer::Y] - m.pedestal_c[0] * y[o + outer::Y_DOT])
-            / m.pedestal_mass;
-    let az =
-        (f_outer.z - m.pedestal_k[1] * y[o + outer::Z] - m.pedestal_c[1] * y[o + outer::Z_DOT])
-            / m.pedestal_mass;
+    let [ay, az] = pedestal_accel(m, y, &f_outer);
     dy[o + outer::Y] = y[o + outer::Y_DOT];
     dy[o + outer::Z] = y[o + outer::Z_DOT];
     dy[o + outer::Y_DOT] = ay;
