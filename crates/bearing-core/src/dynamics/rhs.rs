@@ -7,7 +7,7 @@ use super::ball_equilibrium::ball_equilibrium;
 use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
-use crate::physics::cage_pocket::{pocket_contact, CageMotion};
+use crate::physics::cage_pocket::{pocket_contact, CageMotion, PocketResult};
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
@@ -176,6 +176,25 @@ fn ball_at(
     }
 }
 
+/// Ball `j` in its cage pocket.
+#[inline]
+fn pocket_of(
+    m: &Model,
+    cage: &CageMotion,
+    cage_az: &Azimuth,
+    j: usize,
+    ball: &BallMotion,
+) -> PocketResult {
+    pocket_contact(
+        &m.pocket,
+        cage,
+        &cage_az.plus(&m.pocket_azimuths[j]),
+        &ball.centre,
+        &ball.velocity,
+        &ball.omega,
+    )
+}
+
 /// Pedestal acceleration `[y, z]` (m/s^2, eq. 29) from the outer ring's forces alone.
 #[inline]
 fn pedestal_accel(m: &Model, y: &[f64], f_outer: &Vector3<f64>) -> [f64; 2] {
@@ -205,14 +224,7 @@ pub fn pedestal_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
         let ball = ball_at(m, y, j, &az, &inner, &outer);
         f_outer += race_contact(&m.outer_race, &outer, &ball, &m.contact).force_on_ring;
         if pockets_reach_outer {
-            let pc = pocket_contact(
-                &m.pocket,
-                &cage,
-                &cage_az.plus(&m.pocket_azimuths[j]),
-                &ball.centre,
-                &ball.velocity,
-                &ball.omega,
-            );
+            let pc = pocket_of(m, &cage, &cage_az, j, &ball);
             f_cage += pc.force_on_cage;
         }
     }
@@ -277,14 +289,7 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
         let ball = ball_at(m, y, j, &az, &inner, &outer);
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
-        let pc = pocket_contact(
-            &m.pocket,
-            &cage,
-            &cage_az.plus(&m.pocket_azimuths[j]),
-            &ball.centre,
-            &ball.velocity,
-            &ball.omega,
-        );
+        let pc = pocket_of(m, &cage, &cage_az, j, &ball);
         let mut f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
         let mut mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
         if let Some(drag) = &m.ball_drag {
