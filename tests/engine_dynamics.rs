@@ -426,7 +426,11 @@ fn progress_is_reported_up_to_one() {
 #[test]
 fn acceleration_channels_are_the_same_without_the_whole_right_hand_side() {
     use bearing_core::scene::CageGuidance;
-    for guidance in [CageGuidance::OuterLand, CageGuidance::InnerLand, CageGuidance::Ball] {
+    for guidance in [
+        CageGuidance::OuterLand,
+        CageGuidance::InnerLand,
+        CageGuidance::Ball,
+    ] {
         for level in [
             Fidelity::Full,
             Fidelity::QuasiStaticBalls,
