@@ -52,6 +52,9 @@ pub struct RingMotion {
     pub spin_angle: f64,
     /// The spin angle as sine and cosine.
     pub spin_azimuth: Azimuth,
+    /// False when `rot` is the identity (the outer ring always, the inner ring unless its
+    /// tilt is free), so the contact geometry skips three matrix products.
+    pub tilted: bool,
 }
 
 impl RingMotion {
@@ -69,6 +72,7 @@ impl RingMotion {
             spin,
             spin_angle,
             spin_azimuth: Azimuth::new(spin_angle),
+            tilted: rot != Matrix3::identity(),
         }
     }
 }
@@ -196,7 +200,12 @@ pub fn contact_geometry(
     ball_centre: &Vector3<f64>,
 ) -> ContactGeometry {
     // eq. 2: ball relative to the ring, in ring (tilt) coordinates
-    let p = ring.rot.transpose() * (ball_centre - ring.centre);
+    let rel = ball_centre - ring.centre;
+    let p = if ring.tilted {
+        ring.rot.transpose() * rel
+    } else {
+        rel
+    };
     // eq. 3, sin and cos of theta straight from the coordinates
     let rho = (p.y * p.y + p.z * p.z).sqrt();
     let (s, c) = if rho > 0.0 {
@@ -220,12 +229,17 @@ pub fn contact_geometry(
     };
     let u_body = Vector3::new(dx / dist, -s * dr / dist, c * dr / dist);
     let t_body = Vector3::new(0.0, -c, -s);
+    let (normal, tangent) = if ring.tilted {
+        (ring.rot * u_body, ring.rot * t_body)
+    } else {
+        (u_body, t_body)
+    };
     ContactGeometry {
         delta,
         alpha,
         azimuth: Azimuth { sin: s, cos: c },
-        normal: ring.rot * u_body,
-        tangent: ring.rot * t_body,
+        normal,
+        tangent,
     }
 }
 
