@@ -80,7 +80,7 @@ fn sorted(mut v: Vec<FaultType>) -> Vec<FaultType> {
 
 #[test]
 fn the_verdict_names_the_true_fault_types() {
-    let known_short = ["cwru_or014c_0hp_12k_de", "sim_h7005c_compound"];
+    let known_short = ["cwru_or014c_0hp_12k_de"];
     let not_asserted =
         |s: &Signal| s.truth.contains(&FaultType::RollingElement) || s.id == "sim_h7005c_none";
     let mut checked = 0;
@@ -89,7 +89,10 @@ fn the_verdict_names_the_true_fault_types() {
             let v = verdict_of(s, kurtogram);
             let method = if kurtogram { "kurtogram" } else { "dtcwt" };
             let named = sorted(v.faults.clone());
-            if known_short.contains(&s.id.as_str()) {
+            // the compound case is named in full by the DTCWT method only (docs/cwru.md)
+            let short = known_short.contains(&s.id.as_str())
+                || (kurtogram && s.id == "sim_h7005c_compound");
+            if short {
                 assert!(
                     named.iter().all(|f| s.truth.contains(f)),
                     "{} ({method}): named {named:?}, truth {:?}",
@@ -114,8 +117,9 @@ fn the_verdict_names_the_true_fault_types() {
             checked += 1;
         }
     }
-    // 9 CWRU (normal, IR x4, OR x4 without OR014) + synthetic + 2 simulated, two methods
-    assert_eq!(checked, 2 * 11);
+    // 9 CWRU (normal, IR x4, OR x4 without OR014) + synthetic + 2 simulated, two methods,
+    // and the simulated compound case with the DTCWT method
+    assert_eq!(checked, 2 * 11 + 1);
 }
 
 #[test]

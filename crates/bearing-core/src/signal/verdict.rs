@@ -11,6 +11,9 @@
 //!    components, the kurtogram band when computed) the local maxima up to `f_max = (N +
 //!    1/2) max(BPFI, BPFO) + 2.5 f_r` are ranked by prominence (amplitude over the local
 //!    median of [`super::identify::local_median`]); `B` is the number of bins up to `f_max`.
+//!    Lines at shaft orders `k f_r` are the shaft's (discrete machine lines: unbalance,
+//!    misalignment, the load zone's turn) and are taken out before any family is ranked;
+//!    `B` then counts only the bins outside their windows.
 //! 2. **A fault family** is a series: outer race `h BPFO`; inner race `h BPFI` with the
 //!    shaft-rate sidebands `h BPFI +/- f_r` (the defect turns through the load zone); rolling
 //!    element `h BSF` for `h = 1..2N` (a ball defect strikes both races: 2xBSF and its
@@ -38,6 +41,8 @@
 //!    BSF harmonics with their FTF sidebands; of the cage its harmonics. A line that two
 //!    hypotheses share (on the CWRU 6205, 3 BPFO and 2 BPFI are 0.7 % apart; BPFI - 18 Hz =
 //!    8 (f_r - FTF) sits 2 % above 2xBSF) thus counts once, for the fault that explains more.
+//!    An accepted race fault also takes its shaft sidebands of order 3, 4, ... while each
+//!    order's lines rank as a family at the false-alarm rate ([`further_shaft_sidebands`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -208,8 +213,10 @@ struct RankedLines<'a> {
     peaks: Vec<usize>,
     /// Prominence (amplitude over local median) of each peak, same order.
     prominence: Vec<f64>,
-    /// Peaks taken out by an accepted fault type.
+    /// Peaks taken out by an accepted fault type, or as shaft orders.
     removed: Vec<bool>,
+    /// Bins within the shaft orders' windows: the lines left are ranked over the rest.
+    shaft_bins: usize,
 }
 
 impl<'a> RankedLines<'a> {
@@ -232,6 +239,38 @@ impl<'a> RankedLines<'a> {
             peaks: peaks.iter().map(|p| p.0).collect(),
             prominence: peaks.iter().map(|p| p.1).collect(),
             removed: vec![false; n],
+            shaft_bins: 0,
+        }
+    }
+
+    /// Bins over which the remaining lines fall at random (the chance model's `B`).
+    fn chance_bins(&self) -> f64 {
+        self.bins.saturating_sub(self.shaft_bins).max(1) as f64
+    }
+
+    /// Take the shaft orders `k f_r` out (module docs, step 0): their lines and, from the
+    /// chance model, the bins of their windows.
+    fn remove_shaft_orders(&mut self, fr: f64) {
+        let df = self.df();
+        if fr <= 0.0 {
+            return;
+        }
+        for (i, &k) in self.peaks.iter().enumerate() {
+            let f = k as f64 * df;
+            let order = (f / fr).round();
+            if order >= 1.0 && (f - order * fr).abs() <= tolerance(df, order * fr) {
+                self.removed[i] = true;
+            }
+        }
+        let f_max = self.bins as f64 * df;
+        let mut order = 1.0;
+        while order * fr < f_max {
+            let c = order * fr;
+            let t = tolerance(df, c);
+            let lo = ((c - t) / df).ceil().max(2.0) as usize;
+            let hi = (((c + t) / df).floor() as usize).min(self.bins.saturating_sub(1));
+            self.shaft_bins += (hi + 1).saturating_sub(lo);
+            order += 1.0;
         }
     }
 
@@ -330,7 +369,7 @@ fn series(
     n: usize,
 ) -> SeriesResult {
     let df = lines.df();
-    let b = lines.bins.max(1) as f64;
+    let b = lines.chance_bins();
     let base = fault.theory_hz(theory);
     let lo = ((base * (1.0 - search_band_pct / 100.0) / df).ceil() as usize).max(2);
     let hi = ((base * (1.0 + search_band_pct / 100.0) / df).floor() as usize)
@@ -455,6 +494,65 @@ fn explained_lines(
     v
 }
 
+/// Shaft-rate sidebands of an accepted race fault beyond the second order, `h f1 +/- k f_r`
+/// for `k = 3, 4, ...`: a load zone that is not sinusoidal modulates the impacts with
+/// further shaft harmonics, how many depends on the load. Each order is attributed to the
+/// fault while its `2N` lines, as a family, rank above chance at the false-alarm rate (the
+/// same Fisher test and correction as a fault family); the first order that does not stops
+/// the search, which never goes past half the fundamental (where the sidebands of
+/// neighbouring harmonics meet).
+fn further_shaft_sidebands(
+    fault: FaultType,
+    f1: f64,
+    fr: f64,
+    ranked: &[RankedLines],
+    n: usize,
+    correction: f64,
+    false_alarm_rate: f64,
+) -> Vec<f64> {
+    let mut out = Vec::new();
+    if !matches!(fault, FaultType::InnerRace | FaultType::OuterRace) || fr <= 0.0 || f1 <= 0.0 {
+        return out;
+    }
+    let k_max = (0.5 * f1 / fr).floor() as i32;
+    for k in 3..=k_max {
+        let lines: Vec<f64> = (1..=n)
+            .flat_map(|h| [-1.0, 1.0].map(|o| h as f64 * f1 + o * k as f64 * fr))
+            .collect();
+        let p = ranked
+            .iter()
+            .map(|l| {
+                let df = l.df();
+                let b = l.chance_bins();
+                let f_max = l.bins as f64 * df;
+                let mut log_sum = 0.0;
+                let mut count = 0;
+                for &f in lines.iter().filter(|&&f| f > 0.0 && f < f_max) {
+                    let t = tolerance(df, f);
+                    let lo = ((f - t) / df).ceil().max(2.0) as usize;
+                    let hi = (((f + t) / df).floor() as usize).max(lo);
+                    let p = match l.best_in(lo, hi) {
+                        Some((r, _, _)) => (r as f64 * (hi - lo + 1) as f64 / b).min(1.0),
+                        None => 1.0,
+                    };
+                    log_sum += p.max(MIN_P).ln();
+                    count += 1;
+                }
+                if count == 0 {
+                    1.0
+                } else {
+                    chi2_sf_even(-2.0 * log_sum, count)
+                }
+            })
+            .fold(1.0_f64, f64::min);
+        if (p * correction).min(1.0) >= false_alarm_rate {
+            break;
+        }
+        out.extend(lines);
+    }
+    out
+}
+
 /// How the verdict tests (the analysis options of the same names).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct VerdictSettings {
@@ -484,6 +582,11 @@ pub fn verdict(
         .iter()
         .map(|c| RankedLines::new(c.spectrum, f_max))
         .collect();
+    // Shaft orders are the shaft's (unbalance, misalignment, the load zone's turn), not a
+    // bearing fault's: taken out before any fault family is ranked.
+    for l in ranked.iter_mut() {
+        l.remove_shaft_orders(theory.shaft_hz);
+    }
     let correction = spectra.len().max(1) as f64;
     let mut accepted: Vec<FaultType> = Vec::new();
     let mut evidence: Vec<Option<FaultEvidence>> = vec![None; FaultType::ALL.len()];
@@ -549,13 +652,17 @@ pub fn verdict(
         ev.indicated = true;
         evidence[fi] = Some(ev.clone());
         accepted.push(*fault);
-        let set = explained_lines(
+        let f1 = ev.fundamental_hz.unwrap_or(0.0);
+        let mut set = explained_lines(*fault, f1, theory, ball_count, n);
+        set.extend(further_shaft_sidebands(
             *fault,
-            ev.fundamental_hz.unwrap_or(0.0),
-            theory,
-            ball_count,
+            f1,
+            theory.shaft_hz,
+            &ranked,
             n,
-        );
+            correction,
+            false_alarm_rate,
+        ));
         for l in ranked.iter_mut() {
             let df = l.df();
             for (i, &k) in l.peaks.iter().enumerate() {
