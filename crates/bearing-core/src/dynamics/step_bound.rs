@@ -43,3 +43,59 @@ pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64 {
     }
     bound
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{fault_case_scene, FaultCase};
+
+    /// Ball 0 orbiting at `rate` (rad/s) at `offset` half-angles from the outer defect's
+    /// centre, every other ball at rest (so only ball 0 bounds the step); the bound in
+    /// units of the time to cross one half-angle.
+    fn bound_at(offset: f64) -> f64 {
+        let s = fault_case_scene("h7005c", FaultCase::Outer).unwrap();
+        let m = Model::new(&s.validated().unwrap());
+        let d = m.outer_race.defects[0];
+        let rate = 400.0;
+        let mut y = vec![0.0; m.layout.len];
+        let b = m.layout.ball(0);
+        y[b + ball::THETA] = d.angle + offset * d.half_angle;
+        y[b + ball::THETA_DOT] = rate;
+        defect_step_bound(&m, 0.0, &y) * rate / d.half_angle
+    }
+
+    /// A step ends on the next of the entry edge, the centre and the exit edge; a ball on a
+    /// point (within the landing tolerance) looks to the next one; past the exit the next
+    /// point is the entry a turn later. Tolerance 1e-9: the bound is one division.
+    #[test]
+    fn steps_end_on_the_next_defect_point() {
+        for (offset, expected) in [
+            (-3.0, 2.0),
+            (-1.0, 1.0),
+            (-1.0 + 1e-5, 1.0 - 1e-5),
+            (-0.25, 0.25),
+            (0.0, 1.0),
+            (0.5, 0.5),
+        ] {
+            let got = bound_at(offset);
+            assert!(
+                (got - expected).abs() < 1e-9,
+                "at {offset} half-angles: {got}, expected {expected}"
+            );
+        }
+        // past the exit edge: the entry a turn later
+        let s = fault_case_scene("h7005c", FaultCase::Outer).unwrap();
+        let half = Model::new(&s.validated().unwrap()).outer_race.defects[0].half_angle;
+        for (offset, expected) in [
+            (1.5, (TAU - 2.5 * half) / half),
+            // on the exit edge (within the landing tolerance)
+            (1.0 - 1e-4, (TAU - (2.0 - 1e-4) * half) / half),
+        ] {
+            let got = bound_at(offset);
+            assert!(
+                (got - expected).abs() < 1e-9 * expected,
+                "at {offset} half-angles: {got}, expected {expected}"
+            );
+        }
+    }
+}
