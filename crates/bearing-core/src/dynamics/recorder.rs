@@ -2,10 +2,11 @@
 //! step and the right-hand side (or, for the acceleration alone, its pedestal rows)
 //! evaluated there.
 
+use super::ball_equilibrium::BalanceTrack;
 use super::integrator::hermite;
 use super::output::{Channel, Channels};
-use super::rhs::{pedestal_acceleration, rhs, Diagnostics};
-use crate::model::layout::{cage, outer};
+use super::rhs::{pedestal_acceleration, rhs_tracked, Diagnostics};
+use crate::model::layout::{ball, cage, outer};
 use crate::model::Model;
 use crate::scene::Outputs;
 
@@ -63,6 +64,7 @@ impl Recorder {
         f0: &[f64],
         y1: &[f64],
         f1: &[f64],
+        track: Option<&BalanceTrack>,
     ) {
         let o = m.layout.outer;
         let c = m.layout.cage;
@@ -92,22 +94,31 @@ impl Recorder {
             for k in 0..y0.len() {
                 self.scratch_y[k] = interp(k);
             }
+            if track.is_some() && m.quasi_static_balls {
+                // `track` describes the balance at the step's end: start from it there
+                for j in 0..m.z {
+                    let b = m.layout.ball(j);
+                    self.scratch_y[b + ball::X] = y1[b + ball::X];
+                    self.scratch_y[b + ball::R] = y1[b + ball::R];
+                }
+            }
             // Contact loads need the whole right-hand side; the acceleration channels only
             // the outer ring's forces (the same values, for about half the work).
             let [ay, az] = if self.loads.is_some() {
-                rhs(
+                rhs_tracked(
                     m,
                     ts,
                     &self.scratch_y,
                     &mut self.scratch_f,
                     Some(&mut self.diag),
+                    track,
                 );
                 [
                     self.scratch_f[o + outer::Y_DOT],
                     self.scratch_f[o + outer::Z_DOT],
                 ]
             } else {
-                pedestal_acceleration(m, ts, &self.scratch_y)
+                pedestal_acceleration(m, ts, &self.scratch_y, track)
             };
             self.accel[0].push(ay);
             self.accel[1].push(az);

@@ -3,7 +3,7 @@
 //! Allocation-free: it reads the state slice, writes the derivative slice and, when
 //! asked, fills preallocated diagnostics.
 
-use super::ball_equilibrium::ball_equilibrium;
+use super::ball_equilibrium::{ball_equilibrium, BalanceTrack};
 use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion};
@@ -32,6 +32,8 @@ pub struct Diagnostics {
     /// and radial force on it of everything but its normal loads and centrifugal force (N).
     pub ball_centre: Vec<[f64; 2]>,
     pub ball_other_force: Vec<[f64; 2]>,
+    /// Quasi-static balls only: where the balance stood and how it follows the rings.
+    pub track: BalanceTrack,
 }
 
 impl Diagnostics {
@@ -43,6 +45,7 @@ impl Diagnostics {
             outer_alpha: vec![0.0; z],
             ball_centre: vec![[0.0; 2]; z],
             ball_other_force: vec![[0.0; 2]; z],
+            track: BalanceTrack::new(z),
             ..Default::default()
         }
     }
@@ -139,7 +142,8 @@ fn cage_at(m: &Model, y: &[f64], inner: &RingMotion, outer: &RingMotion) -> Cage
 }
 
 /// Ball `j` as the contact functions see it: from the state, or with quasi-static balls at
-/// its equilibrium between the rings (`ball_equilibrium`, from the last accepted position).
+/// its equilibrium between the rings (`ball_equilibrium`, from the last accepted position
+/// moved with the rings when `track` is given; `record` takes where it now stands).
 #[inline]
 fn ball_at(
     m: &Model,
@@ -148,20 +152,22 @@ fn ball_at(
     az: &Azimuth,
     inner: &RingMotion,
     outer: &RingMotion,
+    track: Option<&BalanceTrack>,
+    record: Option<&mut BalanceTrack>,
 ) -> BallMotion {
     let b = m.layout.ball(j);
     if m.quasi_static_balls {
         let thd = y[b + ball::THETA_DOT];
         let other = [y[b + ball::X_DOT], y[b + ball::R_DOT]];
-        let [x, r] = ball_equilibrium(
-            m,
-            inner,
-            outer,
-            az,
-            thd,
-            [y[b + ball::X], y[b + ball::R]],
-            other,
-        );
+        let last = [y[b + ball::X], y[b + ball::R]];
+        let rings = BalanceTrack::rings_in_plane(inner, outer, az);
+        let start = track.map_or(last, |t| t.start(j, last, rings));
+        let eq = ball_equilibrium(m, inner, outer, az, thd, start, other);
+        if let Some(rec) = record {
+            rec.rings[j] = rings;
+            rec.follows[j] = [eq.follows_inner, eq.follows_outer];
+        }
+        let [x, r] = eq.centre;
         BallMotion {
             centre: Vector3::new(x, 0.0, 0.0) + r * az.e_r(),
             velocity: r * thd * az.e_t(),
@@ -211,7 +217,12 @@ fn pedestal_accel(m: &Model, y: &[f64], f_outer: &Vector3<f64>) -> [f64; 2] {
 /// writes (the same forces summed in the same order), for what the acceleration channels
 /// need: the outer-race contacts and, where they reach the outer ring, the cage land and a
 /// concentric cage's pocket loads; no inner-race contact, no ball or cage derivative.
-pub fn pedestal_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
+pub fn pedestal_acceleration(
+    m: &Model,
+    t: f64,
+    y: &[f64],
+    track: Option<&BalanceTrack>,
+) -> [f64; 2] {
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
     let cage_az = Azimuth::new(cage.spin_angle);
@@ -221,7 +232,7 @@ pub fn pedestal_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
     let mut f_cage = Vector3::zeros();
     for j in 0..m.z {
         let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
-        let ball = ball_at(m, y, j, &az, &inner, &outer);
+        let ball = ball_at(m, y, j, &az, &inner, &outer, track, None);
         f_outer += race_contact(&m.outer_race, &outer, &ball, &m.contact).force_on_ring;
         if pockets_reach_outer {
             let pc = pocket_of(m, &cage, &cage_az, j, &ball);
@@ -270,7 +281,20 @@ fn ring_axis(ring: &RingMotion) -> AxisMotion {
 }
 
 /// Evaluate the derivative. `dy` must have the state's length.
-pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut Diagnostics>) {
+pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], diag: Option<&mut Diagnostics>) {
+    rhs_tracked(m, t, y, dy, diag, None)
+}
+
+/// [`rhs`], with quasi-static balls starting their balance from `track` (the last accepted
+/// balance moved with the rings): the same root, found from a closer start.
+pub fn rhs_tracked(
+    m: &Model,
+    t: f64,
+    y: &[f64],
+    dy: &mut [f64],
+    mut diag: Option<&mut Diagnostics>,
+    track: Option<&BalanceTrack>,
+) {
     let l = &m.layout;
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
@@ -286,7 +310,8 @@ pub fn rhs(m: &Model, t: f64, y: &[f64], dy: &mut [f64], mut diag: Option<&mut D
     for j in 0..m.z {
         let b = l.ball(j);
         let az = Azimuth::new(y[b + ball::THETA]);
-        let ball = ball_at(m, y, j, &az, &inner, &outer);
+        let record = diag.as_deref_mut().map(|d| &mut d.track);
+        let ball = ball_at(m, y, j, &az, &inner, &outer, track, record);
         let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
         let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
         let pc = pocket_of(m, &cage, &cage_az, j, &ball);

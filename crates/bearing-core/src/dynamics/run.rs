@@ -9,7 +9,6 @@ use super::error_scale::scales;
 use super::integrator::{AdaptiveRk4, FixedRk4, FsalRk4, Method};
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
-use super::rhs::Diagnostics;
 use super::rosenbrock::Rosenbrock;
 use super::solver::{Solver, StepLimits};
 use super::system::{bearing_jacobian, BearingSystem};
@@ -29,11 +28,7 @@ pub fn integrate(
     let sv = &scene.solver;
     let n = m.layout.len;
     let (scale, phase) = scales(m);
-    let mut sys = BearingSystem {
-        model: m,
-        scale: &scale,
-        diag: Diagnostics::new(m.z),
-    };
+    let mut sys = BearingSystem::new(m, &scale);
     let limits = StepLimits {
         t_end: sv.duration,
         initial_step: sv.initial_step,
@@ -90,7 +85,16 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
     let mut acc = Averages::new(m.z);
     let start = Instant::now();
     let mut last_report = Instant::now();
-    rec.sample(m, 0.0, 0.0, solver.y(), solver.f(), solver.y(), solver.f());
+    rec.sample(
+        m,
+        0.0,
+        0.0,
+        solver.y(),
+        solver.f(),
+        solver.y(),
+        solver.f(),
+        Some(&sys.track),
+    );
     while !solver.finished() {
         if let Some(c) = cancel {
             if c.load(Ordering::Relaxed) {
@@ -99,7 +103,16 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
         }
         solver.step(sys)?;
         let last = solver.last_step();
-        rec.sample(m, last.t, last.h, last.y0, last.f0, last.y1, last.f1);
+        rec.sample(
+            m,
+            last.t,
+            last.h,
+            last.y0,
+            last.f0,
+            last.y1,
+            last.f1,
+            Some(&sys.track),
+        );
         let t_new = solver.t();
         if t_new > w0 {
             let wgt = t_new - last.t.max(w0);

@@ -1,8 +1,9 @@
 //! The bearing model as an ODE system for the integrators.
 
+use super::ball_equilibrium::BalanceTrack;
 use super::block_jacobian::BlockJacobian;
 use super::integrator::OdeSystem;
-use super::rhs::{rhs, Diagnostics};
+use super::rhs::{rhs_tracked, Diagnostics};
 use super::rosenbrock::JacobianSystem;
 use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
@@ -15,6 +16,20 @@ pub struct BearingSystem<'m> {
     pub scale: &'m [f64],
     /// Diagnostics of the last step-end evaluation.
     pub diag: Diagnostics,
+    /// Quasi-static balls: their balance at the last accepted step and how it follows
+    /// the rings (Newton's start inside the next step).
+    pub track: BalanceTrack,
+}
+
+impl<'m> BearingSystem<'m> {
+    pub fn new(model: &'m Model, scale: &'m [f64]) -> Self {
+        BearingSystem {
+            model,
+            scale,
+            diag: Diagnostics::new(model.z),
+            track: BalanceTrack::new(model.z),
+        }
+    }
 }
 
 impl OdeSystem for BearingSystem<'_> {
@@ -22,10 +37,17 @@ impl OdeSystem for BearingSystem<'_> {
         self.model.layout.len
     }
     fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
-        rhs(self.model, t, y, dy, None);
+        rhs_tracked(self.model, t, y, dy, None, Some(&self.track));
     }
     fn rhs_at_step_end(&mut self, t: f64, y: &[f64], dy: &mut [f64]) {
-        rhs(self.model, t, y, dy, Some(&mut self.diag));
+        rhs_tracked(
+            self.model,
+            t,
+            y,
+            dy,
+            Some(&mut self.diag),
+            Some(&self.track),
+        );
     }
     /// Reduced fidelity levels: write the components an algebraic condition fixes.
     /// Quasi-static balls: each ball's equilibrium centre, and the in-plane force the next
@@ -41,6 +63,9 @@ impl OdeSystem for BearingSystem<'_> {
                 [y[b + ball::X], y[b + ball::R]] = self.diag.ball_centre[j];
                 [y[b + ball::X_DOT], y[b + ball::R_DOT]] = self.diag.ball_other_force[j];
             }
+            // copied in place: the stepping loop allocates nothing
+            self.track.rings.copy_from_slice(&self.diag.track.rings);
+            self.track.follows.copy_from_slice(&self.diag.track.follows);
         }
         if m.concentric_cage {
             let (i, o, c) = (l.inner, l.outer, l.cage);
@@ -75,8 +100,10 @@ impl OdeSystem for BearingSystem<'_> {
 
 impl JacobianSystem for BearingSystem<'_> {
     fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) {
-        let m = self.model;
-        jac.evaluate(t, y, f0, self.scale, |t, y, dy| rhs(m, t, y, dy, None));
+        let (m, track) = (self.model, &self.track);
+        jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
+            rhs_tracked(m, t, y, dy, None, Some(track))
+        });
     }
 }
 
