@@ -251,27 +251,44 @@ impl<'a> RankedLines<'a> {
     /// Take the shaft orders `k f_r` out (module docs, step 0): their lines and, from the
     /// chance model, the bins of their windows.
     fn remove_shaft_orders(&mut self, fr: f64) {
-        let df = self.df();
         if fr <= 0.0 {
             return;
         }
+        let f_max = self.bins as f64 * self.df();
+        let orders: Vec<f64> = (1..)
+            .map(|k| k as f64 * fr)
+            .take_while(|&c| c < f_max)
+            .collect();
+        self.remove_near(&orders);
+        for &c in &orders {
+            let (lo, hi) = self.window(c);
+            self.shaft_bins += (hi.min(self.bins.saturating_sub(1)) + 1).saturating_sub(lo);
+        }
+    }
+
+    /// Take out every peak within the spacing tolerance of a frequency of `set` (Hz).
+    fn remove_near(&mut self, set: &[f64]) {
+        let df = self.df();
         for (i, &k) in self.peaks.iter().enumerate() {
             let f = k as f64 * df;
-            let order = (f / fr).round();
-            if order >= 1.0 && (f - order * fr).abs() <= tolerance(df, order * fr) {
+            if set.iter().any(|&c| (f - c).abs() <= tolerance(df, c)) {
                 self.removed[i] = true;
             }
         }
-        let f_max = self.bins as f64 * df;
-        let mut order = 1.0;
-        while order * fr < f_max {
-            let c = order * fr;
-            let t = tolerance(df, c);
-            let lo = ((c - t) / df).ceil().max(2.0) as usize;
-            let hi = (((c + t) / df).floor() as usize).min(self.bins.saturating_sub(1));
-            self.shaft_bins += (hi + 1).saturating_sub(lo);
-            order += 1.0;
-        }
+    }
+
+    /// Bins `[lo, hi]` within the spacing tolerance of `f` (Hz).
+    fn window(&self, f: f64) -> (usize, usize) {
+        let df = self.df();
+        let t = tolerance(df, f);
+        let lo = ((f - t) / df).ceil().max(2.0) as usize;
+        let hi = ((f + t) / df).floor() as usize;
+        (lo, hi.max(lo))
+    }
+
+    /// Chance probability of a line of rank `r` in a window of `w` bins (module docs, 4).
+    fn chance(&self, r: usize, w: usize) -> f64 {
+        (r as f64 * w as f64 / self.chance_bins()).min(1.0)
     }
 
     fn df(&self) -> f64 {
@@ -369,7 +386,6 @@ fn series(
     n: usize,
 ) -> SeriesResult {
     let df = lines.df();
-    let b = lines.chance_bins();
     let base = fault.theory_hz(theory);
     let lo = ((base * (1.0 - search_band_pct / 100.0) / df).ceil() as usize).max(2);
     let hi = ((base * (1.0 + search_band_pct / 100.0) / df).floor() as usize)
@@ -397,7 +413,7 @@ fn series(
                     w: usize| {
         let (p, found_hz, rank, prom) = match found {
             Some((r, k, i)) => (
-                (r as f64 * w as f64 / b).min(1.0),
+                lines.chance(r, w),
                 Some(lines.frequency(k)),
                 Some(r),
                 Some(20.0 * lines.prominence[i].min(1e15).log10()),
@@ -415,12 +431,6 @@ fn series(
             p_value: p,
         });
     };
-    let window = |f: f64| {
-        let t = tolerance(df, f);
-        let lo = ((f - t) / df).ceil().max(2.0) as usize;
-        let hi = ((f + t) / df).floor() as usize;
-        (lo, hi.max(lo))
-    };
     for h in 1..=n_harmonics as u32 {
         let fh = h as f64 * f1;
         if fh >= f_max {
@@ -429,7 +439,7 @@ fn series(
         if h == 1 {
             push(1, 0, f1, Some((rank1, k1, i1)), hi - lo + 1);
         } else {
-            let (wl, wh) = window(fh);
+            let (wl, wh) = lines.window(fh);
             push(h, 0, fh, lines.best_in(wl, wh), wh - wl + 1);
         }
         if let Some(fs) = sideband_hz {
@@ -438,7 +448,7 @@ fn series(
                 if f <= 0.0 || f >= f_max {
                     continue;
                 }
-                let (wl, wh) = window(f);
+                let (wl, wh) = lines.window(f);
                 push(h, order, f, lines.best_in(wl, wh), wh - wl + 1);
             }
         }
@@ -522,19 +532,14 @@ fn further_shaft_sidebands(
         let p = ranked
             .iter()
             .map(|l| {
-                let df = l.df();
-                let b = l.chance_bins();
-                let f_max = l.bins as f64 * df;
+                let f_max = l.bins as f64 * l.df();
                 let mut log_sum = 0.0;
                 let mut count = 0;
                 for &f in lines.iter().filter(|&&f| f > 0.0 && f < f_max) {
-                    let t = tolerance(df, f);
-                    let lo = ((f - t) / df).ceil().max(2.0) as usize;
-                    let hi = (((f + t) / df).floor() as usize).max(lo);
-                    let p = match l.best_in(lo, hi) {
-                        Some((r, _, _)) => (r as f64 * (hi - lo + 1) as f64 / b).min(1.0),
-                        None => 1.0,
-                    };
+                    let (lo, hi) = l.window(f);
+                    let p = l
+                        .best_in(lo, hi)
+                        .map_or(1.0, |(r, _, _)| l.chance(r, hi - lo + 1));
                     log_sum += p.max(MIN_P).ln();
                     count += 1;
                 }
@@ -664,13 +669,7 @@ pub fn verdict(
             false_alarm_rate,
         ));
         for l in ranked.iter_mut() {
-            let df = l.df();
-            for (i, &k) in l.peaks.iter().enumerate() {
-                let f = k as f64 * df;
-                if set.iter().any(|&c| (f - c).abs() <= tolerance(df, c)) {
-                    l.removed[i] = true;
-                }
-            }
+            l.remove_near(&set);
         }
     }
     Verdict {
