@@ -56,11 +56,11 @@ impl StressScene {
 const SAME_COST: f64 = 4.0;
 
 /// With the cage whirling on its land film (eccentricity ~0.95 at 60000 rpm), `rk4_fsal`'s
-/// step falls to ~1e-8 s: measured 10x at 20 ms and 201x at 0.1 s as the whirl builds up.
+/// step falls to ~1e-8 s: measured 10x at 20 ms and 180-201x at 0.1 s as the whirl builds up.
 /// The factor states the pathology; `limit_speed_auto` is the remedy.
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
-/// `auto` at the limit speed: measured 2.8x at 0.1 s (its Jacobians count as evaluations).
+/// `auto` at the limit speed: measured 2.5-2.8x at 0.1 s (its Jacobians count as evaluations).
 const AUTO_AT_LIMIT_SPEED: f64 = 5.0;
 
 /// The fast start's whirl (docs/benchmarks.md, "Pathologies"): measured 9x at 20 ms, 19x
