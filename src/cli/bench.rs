@@ -56,12 +56,18 @@ pub enum BenchWhat {
         /// Levels to compare with `full` (snake_case names of `solver.fidelity`).
         #[arg(long, value_delimiter = ',', default_values_t = vec!["quasi_static_balls".to_string(), "concentric_cage".to_string()])]
         levels: Vec<String>,
-        /// Traction strips for the reduced levels (default: the scene's).
-        #[arg(long)]
-        strips: Option<usize>,
+        /// Traction strips for the reduced levels; several (comma-separated) run each
+        /// level once per count (default: the scene's).
+        #[arg(long, value_delimiter = ',')]
+        strips: Vec<usize>,
         /// Integrator for the reduced levels (default: the scene's).
         #[arg(long)]
         integrator: Option<String>,
+        /// Tolerances (rtol = atol) for the reduced levels; several (comma-separated) show
+        /// how far a reduced level's readings move when only the step sequence changes
+        /// (default: the scene's).
+        #[arg(long, value_delimiter = ',')]
+        tolerances: Vec<f64>,
     },
     /// The stability stress suite: extreme scenes run with their invariants checked, or
     /// refused up front naming the field (bearing_core::stress).
@@ -101,7 +107,14 @@ pub fn main(args: BenchArgs) -> CliResult {
             levels,
             strips,
             integrator,
-        } => super::bench_fidelity::fidelity(&on, &levels, strips, integrator.as_deref()),
+            tolerances,
+        } => super::bench_fidelity::fidelity(
+            &on,
+            &levels,
+            &strips,
+            integrator.as_deref(),
+            &tolerances,
+        ),
         BenchWhat::Stress {
             duration,
             only,

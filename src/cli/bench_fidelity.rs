@@ -9,8 +9,9 @@ use bearing_core::simulation::{simulate, RunControl};
 pub fn fidelity(
     on: &ComparisonArgs,
     levels: &[String],
-    strips: Option<usize>,
+    strips: &[usize],
     integrator: Option<&str>,
+    tolerances: &[f64],
 ) -> CliResult {
     let base = comparison_scene(on)?;
     let levels = levels
@@ -20,15 +21,16 @@ pub fn fidelity(
     eprintln!("reference: full fidelity");
     let full = simulate(&base.clone().validated()?, RunControl::default())?;
     let f = read(&base, &full)?;
-    println!("| level | integrator | strips | wall time (s) | speed-up | RHS evaluations | BPFO (Hz) | BPFI (Hz) | cage speed (rad/s) | band RMS < 20 kHz (m/s^2) | peak inner / outer load, ball 0 (N) |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| level | integrator | strips | tolerance | wall time (s) | speed-up | RHS evaluations | BPFO (Hz) | BPFI (Hz) | cage speed (rad/s) | band RMS < 20 kHz (m/s^2) | peak inner / outer load, ball 0 (N) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     let rel = |a: f64, b: f64| 100.0 * (a - b) / b;
     println!(
-        "| full | {} | {} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
+        "| full | {} | {} | {:.0e} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
         serde_json::to_value(base.solver.integrator)?
             .as_str()
             .unwrap_or("?"),
         base.solver.traction_strips,
+        base.solver.rtol,
         f.wall,
         f.rhs,
         f.bpfo,
@@ -38,39 +40,61 @@ pub fn fidelity(
         f.peak_loads[0],
         f.peak_loads[1]
     );
+    // Every combination of level, strip count and tolerance; an empty list keeps the
+    // scene's value.
+    let strips: Vec<Option<usize>> = if strips.is_empty() {
+        vec![None]
+    } else {
+        strips.iter().copied().map(Some).collect()
+    };
+    let tolerances: Vec<Option<f64>> = if tolerances.is_empty() {
+        vec![None]
+    } else {
+        tolerances.iter().copied().map(Some).collect()
+    };
     for (name, level) in levels {
-        let mut s = base.clone();
-        s.solver.fidelity = level;
-        if let Some(n) = strips {
-            s.solver.traction_strips = n;
+        for n in &strips {
+            for tol in &tolerances {
+                let mut s = base.clone();
+                s.solver.fidelity = level;
+                if let Some(n) = n {
+                    s.solver.traction_strips = *n;
+                }
+                if let Some(tol) = tol {
+                    s.solver.rtol = *tol;
+                    s.solver.atol = *tol;
+                }
+                if let Some(name) = integrator {
+                    s.solver.integrator =
+                        serde_json::from_value(serde_json::Value::String(name.into()))
+                            .map_err(|_| format!("--integrator: unknown integrator {name}"))?;
+                }
+                eprintln!("{name}");
+                let r = simulate(&s.clone().validated()?, RunControl::default())?;
+                let g = read(&s, &r)?;
+                println!(
+                    "| {name} | {} | {} | {:.1e} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
+                    serde_json::to_value(s.solver.integrator)?.as_str().unwrap_or("?"),
+                    s.solver.traction_strips,
+                    s.solver.rtol,
+                    g.wall,
+                    f.wall / g.wall,
+                    g.rhs,
+                    g.bpfo,
+                    rel(g.bpfo, f.bpfo),
+                    g.bpfi,
+                    rel(g.bpfi, f.bpfi),
+                    g.cage,
+                    rel(g.cage, f.cage),
+                    g.band_rms,
+                    rel(g.band_rms, f.band_rms),
+                    g.peak_loads[0],
+                    rel(g.peak_loads[0], f.peak_loads[0]),
+                    g.peak_loads[1],
+                    rel(g.peak_loads[1], f.peak_loads[1]),
+                );
+            }
         }
-        if let Some(name) = integrator {
-            s.solver.integrator = serde_json::from_value(serde_json::Value::String(name.into()))
-                .map_err(|_| format!("--integrator: unknown integrator {name}"))?;
-        }
-        eprintln!("{name}");
-        let r = simulate(&s.clone().validated()?, RunControl::default())?;
-        let g = read(&s, &r)?;
-        println!(
-            "| {name} | {} | {} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
-            serde_json::to_value(s.solver.integrator)?.as_str().unwrap_or("?"),
-            s.solver.traction_strips,
-            g.wall,
-            f.wall / g.wall,
-            g.rhs,
-            g.bpfo,
-            rel(g.bpfo, f.bpfo),
-            g.bpfi,
-            rel(g.bpfi, f.bpfi),
-            g.cage,
-            rel(g.cage, f.cage),
-            g.band_rms,
-            rel(g.band_rms, f.band_rms),
-            g.peak_loads[0],
-            rel(g.peak_loads[0], f.peak_loads[0]),
-            g.peak_loads[1],
-            rel(g.peak_loads[1], f.peak_loads[1]),
-        );
     }
     Ok(())
 }

@@ -1,12 +1,12 @@
 //! Uniform output sampling: the state is interpolated at every output instant inside a
-//! step and the right-hand side (or, for the acceleration alone, its pedestal rows)
-//! evaluated there.
+//! step and the forces the channels read (the pedestal rows of the right-hand side and,
+//! when asked for, one ball's contact loads) evaluated there.
 
 use super::ball_equilibrium::BalanceTrack;
 use super::integrator::hermite;
 use super::output::{Channel, Channels};
-use super::rhs::{pedestal_acceleration, rhs_tracked, Diagnostics};
-use crate::model::layout::{ball, cage, outer};
+use super::rhs::output_forces;
+use crate::model::layout::{ball, cage};
 use crate::model::Model;
 use crate::scene::Outputs;
 
@@ -21,8 +21,6 @@ pub struct Recorder {
     inner: Option<[Vec<f64>; 3]>,
     loads: Option<(usize, Vec<f64>, Vec<f64>)>,
     scratch_y: Vec<f64>,
-    scratch_f: Vec<f64>,
-    diag: Diagnostics,
 }
 
 impl Recorder {
@@ -48,8 +46,6 @@ impl Recorder {
                 )
             }),
             scratch_y: vec![0.0; n],
-            scratch_f: vec![0.0; n],
-            diag: Diagnostics::new(m.z),
         }
     }
 
@@ -66,7 +62,6 @@ impl Recorder {
         f1: &[f64],
         track: Option<&BalanceTrack>,
     ) {
-        let o = m.layout.outer;
         let c = m.layout.cage;
         let i = m.layout.inner;
         while self.next < self.n {
@@ -102,24 +97,17 @@ impl Recorder {
                     self.scratch_y[b + ball::R] = y1[b + ball::R];
                 }
             }
-            // Contact loads need the whole right-hand side; the acceleration channels only
-            // the outer ring's forces (the same values, for about half the work).
-            let [ay, az] = if self.loads.is_some() {
-                rhs_tracked(
-                    m,
-                    ts,
-                    &self.scratch_y,
-                    &mut self.scratch_f,
-                    Some(&mut self.diag),
-                    track,
-                );
-                [
-                    self.scratch_f[o + outer::Y_DOT],
-                    self.scratch_f[o + outer::Z_DOT],
-                ]
-            } else {
-                pedestal_acceleration(m, ts, &self.scratch_y, track)
-            };
+            // Only the forces the channels read: the outer ring's, and the one ball's
+            // contact loads when asked for (the same values as the whole right-hand side's,
+            // for about half the work).
+            let out = output_forces(
+                m,
+                ts,
+                &self.scratch_y,
+                track,
+                self.loads.as_ref().map(|l| l.0),
+            );
+            let [ay, az] = out.accel;
             self.accel[0].push(ay);
             self.accel[1].push(az);
             if let Some(v) = self.cage.as_mut() {
@@ -133,9 +121,9 @@ impl Recorder {
                     v[k].push(interp(i + k));
                 }
             }
-            if let Some((ball, li, lo)) = self.loads.as_mut() {
-                li.push(self.diag.inner_load[*ball]);
-                lo.push(self.diag.outer_load[*ball]);
+            if let Some((_, li, lo)) = self.loads.as_mut() {
+                li.push(out.ball_loads[0]);
+                lo.push(out.ball_loads[1]);
             }
             self.next += 1;
         }

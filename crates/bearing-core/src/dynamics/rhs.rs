@@ -213,16 +213,28 @@ fn pedestal_accel(m: &Model, y: &[f64], f_outer: &Vector3<f64>) -> [f64; 2] {
     ]
 }
 
-/// The pedestal acceleration `[y, z]` (m/s^2) alone, equal bit for bit to the one [`rhs`]
-/// writes (the same forces summed in the same order), for what the acceleration channels
-/// need: the outer-race contacts and, where they reach the outer ring, the cage land and a
-/// concentric cage's pocket loads; no inner-race contact, no ball or cage derivative.
-pub fn pedestal_acceleration(
+/// What an output sample reads from the state: the pedestal acceleration and, when asked
+/// for, one ball's contact loads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputForces {
+    /// Pedestal acceleration `[y, z]`, m/s^2.
+    pub accel: [f64; 2],
+    /// Normal load of the asked ball's inner and outer contact, N (zero when not asked).
+    pub ball_loads: [f64; 2],
+}
+
+/// The pedestal acceleration (and `loads_of` ball's contact loads) alone, equal bit for bit
+/// to what [`rhs`] writes (the same forces summed in the same order), for what the output
+/// channels need: the outer-race contacts and, where they reach the outer ring, the cage
+/// land and a concentric cage's pocket loads, plus the one ball's inner-race contact; no
+/// other inner-race contact, no ball or cage derivative.
+pub fn output_forces(
     m: &Model,
     t: f64,
     y: &[f64],
     track: Option<&BalanceTrack>,
-) -> [f64; 2] {
+    loads_of: Option<usize>,
+) -> OutputForces {
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
     let cage_az = Azimuth::new(cage.spin_angle);
@@ -230,10 +242,16 @@ pub fn pedestal_acceleration(
     let pockets_reach_outer = m.concentric_cage && !m.cage_guided_by_inner();
     let mut f_outer = Vector3::zeros();
     let mut f_cage = Vector3::zeros();
+    let mut ball_loads = [0.0; 2];
     for j in 0..m.z {
         let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
         let ball = ball_at(m, y, j, &az, &inner, &outer, track, None);
-        f_outer += race_contact(&m.outer_race, &outer, &ball, &m.contact).force_on_ring;
+        let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
+        f_outer += co.force_on_ring;
+        if loads_of == Some(j) {
+            let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
+            ball_loads = [ci.load, co.load];
+        }
         if pockets_reach_outer {
             let pc = pocket_of(m, &cage, &cage_az, j, &ball);
             f_cage += pc.force_on_cage;
@@ -252,7 +270,10 @@ pub fn pedestal_acceleration(
     if pockets_reach_outer {
         f_outer += Vector3::new(0.0, f_cage.y, f_cage.z);
     }
-    pedestal_accel(m, y, &f_outer)
+    OutputForces {
+        accel: pedestal_accel(m, y, &f_outer),
+        ball_loads,
+    }
 }
 
 /// The cage's axis as the land sees it.
@@ -463,5 +484,88 @@ pub fn rhs_tracked(
         d.inner_reaction = [f_inner.x, f_inner.y, f_inner.z];
         d.outer_accel = [ay, az];
         d.land_eccentricity = land_ecc;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::error_scale::scales;
+    use crate::dynamics::integrator::FsalRk4;
+    use crate::dynamics::solver::{Solver, StepLimits};
+    use crate::dynamics::system::BearingSystem;
+    use crate::quasi_static::{initial_state, solve_model};
+    use crate::scene::{fault_case_scene, CageGuidance, FaultCase, Fidelity};
+
+    /// Output samples evaluate only what the channels read ([`output_forces`]). Along a
+    /// run through defect crossings (10000 rpm, 2 ms: about two outer and three inner
+    /// crossings), at every fidelity level and cage guidance (the land and a concentric
+    /// cage's pockets reach the outer ring differently), the pedestal acceleration and a
+    /// ball's contact loads must equal the whole right-hand side's bit for bit.
+    #[test]
+    fn output_forces_equal_the_whole_right_hand_side() {
+        for guidance in [
+            CageGuidance::OuterLand,
+            CageGuidance::InnerLand,
+            CageGuidance::Ball,
+        ] {
+            for level in [
+                Fidelity::Full,
+                Fidelity::QuasiStaticBalls,
+                Fidelity::ConcentricCage,
+            ] {
+                let mut s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+                s.operating.speed.initial_rpm = 10_000.0;
+                s.operating.speed.ramp_time = 0.0;
+                s.solver.fidelity = level;
+                s.bearing.cage.guidance = guidance;
+                if guidance == CageGuidance::InnerLand {
+                    // a land just inside the cage bore, at the preset's 0.2 mm clearance
+                    s.bearing.inner_land_diameter = s.bearing.cage.inner_diameter - 2e-4;
+                }
+                let m = Model::new(&s.validated().unwrap());
+                let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
+                let (scale, phase) = scales(&m);
+                let n = m.layout.len;
+                let mut sys = BearingSystem::new(&m, &scale);
+                let method = FsalRk4::new(n, 1e-5, 1e-5, scale.clone(), phase);
+                let limits = StepLimits {
+                    t_end: 2e-3,
+                    initial_step: 1e-5,
+                    max_step: 1e-4,
+                    min_step: 1e-14,
+                };
+                let mut solver = Solver::new(&mut sys, method, initial_state(&m, &qs), limits);
+                let mut dy = vec![0.0; n];
+                let mut diag = Diagnostics::new(m.z);
+                let mut steps = 0;
+                while !solver.finished() {
+                    solver.step(&mut sys).unwrap();
+                    let (t, y) = (solver.t(), solver.y());
+                    rhs_tracked(&m, t, y, &mut dy, Some(&mut diag), Some(&sys.track));
+                    let o = m.layout.outer;
+                    let want = [dy[o + outer::Y_DOT], dy[o + outer::Z_DOT]];
+                    for k in 0..m.z {
+                        let out = output_forces(&m, t, y, Some(&sys.track), Some(k));
+                        let loads = [diag.inner_load[k], diag.outer_load[k]];
+                        let same = |a: [f64; 2], b: [f64; 2]| {
+                            a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits()
+                        };
+                        assert!(
+                            same(out.accel, want),
+                            "{guidance:?} {level:?} t = {t}: {:?} != {want:?}",
+                            out.accel
+                        );
+                        assert!(
+                            same(out.ball_loads, loads),
+                            "{guidance:?} {level:?} t = {t}, ball {k}: {:?} != {loads:?}",
+                            out.ball_loads
+                        );
+                    }
+                    steps += 1;
+                }
+                assert!(steps > 50, "{guidance:?} {level:?}: {steps} steps");
+            }
+        }
     }
 }
