@@ -6,8 +6,8 @@ method (used for docs/cwru.md). Dev script only; needs a release build, no packa
     cargo build --release && python3 scripts/eval_report.py > /tmp/eval.md
 
 Methods: `dtcwt` = default options (the verdict reads the raw envelope spectrum and the two
-DTCWT components of largest kurtosis); `kurtogram` = `--kurtogram-levels L` (raw spectrum and
-the kurtogram's band; L = 6 at 12 kHz, 8 at 48 kHz, 9 at 102.4 kHz: the narrowest band about
+DTCWT components of largest kurtosis); `kurtogram` = `--kurtogram-levels L` (raw spectrum,
+the kurtogram's band and its runner-up; L = 6 at 12 kHz, 8 at 48 kHz, 9 at 102.4 kHz: the narrowest band about
 100 Hz).
 """
 import json

@@ -51,8 +51,9 @@ pub struct AnalysisOptions {
     /// the best and runner-up (default false).
     pub report_all_levels: bool,
     /// Choose the band by the kurtogram over this many levels, 1..=12: the envelope spectrum
-    /// of that band is reported as `kurtogram` and the verdict reads it (with the raw
-    /// spectrum) instead of the best two DTCWT components (default none: the kurtogram is
+    /// of that band is reported as `kurtogram`, that of the best band not overlapping it as
+    /// `kurtogram_runner_up`, and the verdict reads them (with the raw spectrum) instead of
+    /// the best two DTCWT components (default none: the kurtogram is
     /// not computed and the verdict reads the DTCWT components).
     #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 12))]
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -159,8 +160,12 @@ pub struct AnalysisReport {
     /// The kurtogram's band, when `kurtogram_levels` was asked for.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kurtogram: Option<KurtogramReport>,
+    /// The kurtogram's band of largest kurtosis that does not overlap `kurtogram`'s and is
+    /// as wide, when `kurtogram_levels` was asked for and such a band exists.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kurtogram_runner_up: Option<KurtogramReport>,
     /// Fault types indicated and the evidence, read from the raw spectrum and the best and
-    /// runner-up components, or the kurtogram's band when it was asked for (method in
+    /// runner-up components, or the kurtogram's two bands when it was asked for (method in
     /// docs/model.md, "Verdict"). Absent only in
     /// reports stored before the verdict existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -378,30 +383,32 @@ pub fn analyze_with(
         Vec::new()
     };
 
-    let mut kurtogram_spectrum = None;
-    let mut kurtogram = match opts.kurtogram_levels {
-        None => None,
-        Some(levels) => {
-            check()?;
-            // only bands wide enough for every harmonic searched of the highest fault
-            // frequency: an envelope shows modulation only up to its band's width
-            let widest_line = opts.harmonics as f64 * theory.bpfi.max(theory.bpfo);
-            let best = super::kurtogram::kurtogram(x, fs, levels)
-                .map_err(|e| invalid("kurtogram_levels", e.to_string()))?
-                .best_at_least(widest_line);
-            let spectrum = plan.compute(x, fs, Some([best.low_hz, best.high_hz]));
+    // The kurtogram's band and its runner-up, each with its envelope spectrum.
+    let mut kurtogram_spectra: Vec<Spectrum> = Vec::new();
+    let mut kurtogram_reports: Vec<KurtogramReport> = Vec::new();
+    if let Some(levels) = opts.kurtogram_levels {
+        check()?;
+        // only bands wide enough for every harmonic searched of the highest fault
+        // frequency: an envelope shows modulation only up to its band's width
+        let widest_line = opts.harmonics as f64 * theory.bpfi.max(theory.bpfo);
+        let kg = super::kurtogram::kurtogram(x, fs, levels)
+            .map_err(|e| invalid("kurtogram_levels", e.to_string()))?;
+        let best = kg.best_at_least(widest_line);
+        let second = kg.runner_up_at_least(widest_line, &best);
+        for band in std::iter::once(best).chain(second) {
+            let spectrum = plan.compute(x, fs, Some([band.low_hz, band.high_hz]));
             let ids = identify(&spectrum, &theory, &id_opts);
             let sidebands = bpfi_sidebands(&spectrum, &theory, &ids, &id_opts);
-            kurtogram_spectrum = Some(spectrum);
-            Some(KurtogramReport {
-                level: best.level,
-                band_hz: [best.low_hz, best.high_hz],
-                kurtosis: best.kurtosis,
+            kurtogram_spectra.push(spectrum);
+            kurtogram_reports.push(KurtogramReport {
+                level: band.level,
+                band_hz: [band.low_hz, band.high_hz],
+                kurtosis: band.kurtosis,
                 identifications: ids,
                 bpfi_sidebands: sidebands,
-            })
+            });
         }
-    };
+    }
     let mut raw = identify(&raw_spectrum, &theory, &id_opts);
     let raw_bpfi_sidebands = bpfi_sidebands(&raw_spectrum, &theory, &raw, &id_opts);
     let level_candidate = |c: &ComponentReport| CandidateSpectrum {
@@ -409,20 +416,26 @@ pub fn analyze_with(
         band_hz: Some(c.band_hz),
         spectrum: level_spectrum(c.level - 1),
     };
-    // The verdict reads the raw spectrum and the band(s) of the band-selection method asked
-    // for: the kurtogram's band when `kurtogram_levels` is given, else the two DTCWT
-    // components of largest kurtosis.
+    // The verdict reads the raw spectrum and the bands of the band-selection method asked
+    // for: the kurtogram's band and its runner-up when `kurtogram_levels` is given, else the
+    // two DTCWT components of largest kurtosis.
     let mut candidates = vec![CandidateSpectrum {
         label: "raw".into(),
         band_hz: opts.band,
         spectrum: &raw_spectrum,
     }];
-    if let (Some(k), Some(s)) = (&kurtogram, &kurtogram_spectrum) {
-        candidates.push(CandidateSpectrum {
-            label: "kurtogram".into(),
-            band_hz: Some(k.band_hz),
-            spectrum: s,
-        });
+    if !kurtogram_reports.is_empty() {
+        for (i, (k, s)) in kurtogram_reports.iter().zip(&kurtogram_spectra).enumerate() {
+            candidates.push(CandidateSpectrum {
+                label: if i == 0 {
+                    "kurtogram".into()
+                } else {
+                    "kurtogram runner-up".into()
+                },
+                band_hz: Some(k.band_hz),
+                spectrum: s,
+            });
+        }
     } else {
         candidates.push(level_candidate(&best_component));
         if runner_up_component.level != best_component.level {
@@ -452,9 +465,12 @@ pub fn analyze_with(
     for c in all_levels.iter_mut() {
         named(&mut c.identifications);
     }
-    if let Some(k) = kurtogram.as_mut() {
+    for k in kurtogram_reports.iter_mut() {
         named(&mut k.identifications);
     }
+    let mut kurtogram_reports = kurtogram_reports.into_iter();
+    let kurtogram = kurtogram_reports.next();
+    let kurtogram_runner_up = kurtogram_reports.next();
     let report = AnalysisReport {
         sample_rate: fs,
         n_samples: x.len(),
@@ -471,6 +487,7 @@ pub fn analyze_with(
         runner_up_component,
         all_levels,
         kurtogram,
+        kurtogram_runner_up,
         verdict: Some(verdict),
     };
     Ok(AnalysisOutput {

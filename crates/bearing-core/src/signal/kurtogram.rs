@@ -64,6 +64,20 @@ impl Kurtogram {
             .max_by(|a, b| a.kurtosis.total_cmp(&b.kurtosis))
             .unwrap_or(self.levels[0][0])
     }
+
+    /// The band of largest kurtosis among those at least `min_bandwidth_hz` wide that do
+    /// not overlap `first` (none if no such band exists): a second resonance the impulses
+    /// excite, as a compound fault's two defects may excite two (the kurtogram's
+    /// counterpart of the DTCWT's runner-up component).
+    pub fn runner_up_at_least(&self, min_bandwidth_hz: f64, first: &Band) -> Option<Band> {
+        self.levels
+            .iter()
+            .flatten()
+            .filter(|b| b.bandwidth_hz() >= min_bandwidth_hz)
+            .filter(|b| b.high_hz <= first.low_hz || b.low_hz >= first.high_hz)
+            .copied()
+            .max_by(|a, b| a.kurtosis.total_cmp(&b.kurtosis))
+    }
 }
 
 /// Why no kurtogram can be computed.
@@ -232,6 +246,44 @@ mod tests {
         // and the whole band, where the noise outside the resonance dilutes the impulses,
         // has less
         assert!(k.levels[0][0].kurtosis < b.kurtosis, "{:?}", k.levels[0][0]);
+    }
+
+    /// Two resonances struck at two rates (a compound fault's two defects): the best band
+    /// holds one, the runner-up the other, and the two do not overlap.
+    #[test]
+    fn the_runner_up_band_finds_a_second_resonance() {
+        let fs = 20_000.0;
+        let n = 1 << 16;
+        let mut x = noise(n, 13);
+        let mut strike = |fr: f64, rate: f64, amp: f64| {
+            for k in 0..(n as f64 / fs * rate) as usize {
+                let t0 = k as f64 / rate;
+                let i0 = (t0 * fs).ceil() as usize;
+                for (i, v) in x.iter_mut().enumerate().skip(i0).take(200) {
+                    let t = i as f64 / fs - t0;
+                    *v += amp * (-2.0 * PI * 0.03 * fr * t).exp() * (2.0 * PI * fr * t).sin();
+                }
+            }
+        };
+        strike(3_200.0, 100.0, 4.0);
+        strike(7_700.0, 137.0, 3.0);
+        let k = kurtogram(&x, fs, 6).unwrap();
+        // bands at least 600 Hz wide (four harmonics of 137 Hz and more)
+        let best = k.best_at_least(600.0);
+        let second = k.runner_up_at_least(600.0, &best).unwrap();
+        let holds = |b: &Band, f: f64| b.low_hz <= f && f <= b.high_hz;
+        assert!(
+            (holds(&best, 3_200.0) && holds(&second, 7_700.0))
+                || (holds(&best, 7_700.0) && holds(&second, 3_200.0)),
+            "{best:?} {second:?}"
+        );
+        assert!(second.high_hz <= best.low_hz || second.low_hz >= best.high_hz);
+        assert!(
+            second.bandwidth_hz() >= 600.0 && second.kurtosis > 1.0,
+            "{second:?}"
+        );
+        // nothing is left when no band avoids the first: the whole band overlaps everything
+        assert_eq!(k.runner_up_at_least(600.0, &k.levels[0][0]), None);
     }
 
     #[test]

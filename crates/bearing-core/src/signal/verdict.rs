@@ -8,7 +8,7 @@
 //! spectrum, more than chance would put them there?**
 //!
 //! 1. **Lines and ranks.** In each candidate spectrum (raw, the best and runner-up DTCWT
-//!    components, the kurtogram band when computed) the local maxima up to `f_max = (N +
+//!    components, or the kurtogram's band and its runner-up) the local maxima up to `f_max = (N +
 //!    1/2) max(BPFI, BPFO) + 2.5 f_r` are ranked by prominence (amplitude over the local
 //!    median of [`super::identify::local_median`]); `B` is the number of bins up to `f_max`.
 //!    Lines at shaft orders `k f_r` are the shaft's (discrete machine lines: unbalance,
@@ -154,7 +154,8 @@ pub struct FaultEvidence {
     pub p_value: f64,
     /// `-log10(p_value)`, -.
     pub score: f64,
-    /// Spectrum the evidence comes from: `raw`, `level N` or `kurtogram`.
+    /// Spectrum the evidence comes from: `raw`, `level N`, `kurtogram` or
+    /// `kurtogram runner-up`.
     pub spectrum: String,
     /// Band of that spectrum, Hz (`None` for the raw signal without a band-pass).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -198,7 +199,7 @@ pub struct Verdict {
 
 /// A spectrum the verdict may read, with where it comes from.
 pub struct CandidateSpectrum<'a> {
-    /// `raw`, `level N` or `kurtogram`.
+    /// `raw`, `level N`, `kurtogram` or `kurtogram runner-up`.
     pub label: String,
     pub band_hz: Option<[f64; 2]>,
     pub spectrum: &'a Spectrum,
