@@ -58,8 +58,9 @@ pub struct AnalyzeArgs {
     /// Report the identifications of every DTCWT level, not only the best two.
     #[arg(long)]
     pub all_levels: bool,
-    /// Also choose a band by Antoni's kurtogram over this many levels (1-12) and report
-    /// what its envelope spectrum shows (`kurtogram` in the report).
+    /// Also choose bands by Antoni's kurtogram over this many levels (1-12) and report what
+    /// their envelope spectra show (`kurtogram`, and `kurtogram_runner_up` for the best band
+    /// not overlapping it); the verdict then reads them instead of the DTCWT components.
     #[arg(long)]
     pub kurtogram_levels: Option<usize>,
     /// False-alarm rate of the fault verdict, per fault type (`verdict` in the report)

@@ -136,6 +136,8 @@ def run(page, base, shots, console_errors):
         expect(page.locator('#ids-raw tr[data-line="BPFI"][data-detected="true"]').first).to_be_visible()
         # the kurtogram's band is reported too (there BPFI reads 11.3 dB, under the threshold)
         expect(page.locator('#ids-kurtogram tr[data-line="BPFI"]').first).to_be_visible()
+        # and its runner-up, the best band beside it (4-5 kHz here, the first 2-4 kHz)
+        expect(page.locator('#ids-kurtogram-runner-up tr[data-line="BPFI"]').first).to_be_visible()
         # and the verdict names the inner race, with its evidence table
         expect(page.locator("#summary")).to_contain_text("inner race")
         expect(page.locator("#verdict")).to_contain_text("rolling element")

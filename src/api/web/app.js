@@ -379,6 +379,10 @@ function renderResult(kind, id, result, box) {
     const k = a.kurtogram;
     box.append(idTable(`Identified in the kurtogram's band (${fmt(k.band_hz[0])}-${fmt(k.band_hz[1])} Hz, level ${fmt(k.level)}, spectral kurtosis ${fmt(k.kurtosis)})`, k.identifications, "ids-kurtogram"));
   }
+  if (a.kurtogram_runner_up) {
+    const k = a.kurtogram_runner_up;
+    box.append(idTable(`Identified in the kurtogram's runner-up band (${fmt(k.band_hz[0])}-${fmt(k.band_hz[1])} Hz, level ${fmt(k.level)}, spectral kurtosis ${fmt(k.kurtosis)})`, k.identifications, "ids-kurtogram-runner-up"));
+  }
   if (kind === "simulations") box.append(signalPlot(id, result));
   box.append(spectrumPlot(kind, id, a));
   const kbox = h("div", {});
