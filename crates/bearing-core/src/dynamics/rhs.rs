@@ -500,6 +500,27 @@ mod tests {
     use crate::quasi_static::{initial_state, solve_model};
     use crate::scene::{fault_case_scene, CageGuidance, FaultCase, Fidelity};
 
+    /// Run `m` from its quasi-static start to `t_end` with `rk4_fsal` at 1e-5, calling
+    /// `each` after every accepted step with the time, the state and the system.
+    fn each_step(m: &Model, t_end: f64, mut each: impl FnMut(f64, &[f64], &BearingSystem)) {
+        let qs = solve_model(m, m.shaft_speed(0.0)).unwrap();
+        let (scale, phase) = scales(m);
+        let n = m.layout.len;
+        let mut sys = BearingSystem::new(m, &scale);
+        let method = FsalRk4::new(n, 1e-5, 1e-5, scale.clone(), phase);
+        let limits = StepLimits {
+            t_end,
+            initial_step: 1e-5,
+            max_step: 1e-4,
+            min_step: 1e-14,
+        };
+        let mut solver = Solver::new(&mut sys, method, initial_state(m, &qs), limits);
+        while !solver.finished() {
+            solver.step(&mut sys).unwrap();
+            each(solver.t(), solver.y(), &sys);
+        }
+    }
+
     /// Output samples evaluate only what the channels read ([`output_forces`]). Along a
     /// run through defect crossings (10000 rpm, 2 ms: about two outer and three inner
     /// crossings), at every fidelity level and cage guidance (the land and a concentric
@@ -527,33 +548,19 @@ mod tests {
                     s.bearing.inner_land_diameter = s.bearing.cage.inner_diameter - 2e-4;
                 }
                 let m = Model::new(&s.validated().unwrap());
-                let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
-                let (scale, phase) = scales(&m);
-                let n = m.layout.len;
-                let mut sys = BearingSystem::new(&m, &scale);
-                let method = FsalRk4::new(n, 1e-5, 1e-5, scale.clone(), phase);
-                let limits = StepLimits {
-                    t_end: 2e-3,
-                    initial_step: 1e-5,
-                    max_step: 1e-4,
-                    min_step: 1e-14,
-                };
-                let mut solver = Solver::new(&mut sys, method, initial_state(&m, &qs), limits);
-                let mut dy = vec![0.0; n];
+                let mut dy = vec![0.0; m.layout.len];
                 let mut diag = Diagnostics::new(m.z);
                 let mut steps = 0;
-                while !solver.finished() {
-                    solver.step(&mut sys).unwrap();
-                    let (t, y) = (solver.t(), solver.y());
+                each_step(&m, 2e-3, |t, y, sys| {
                     rhs_tracked(&m, t, y, &mut dy, Some(&mut diag), Some(&sys.track));
                     let o = m.layout.outer;
                     let want = [dy[o + outer::Y_DOT], dy[o + outer::Z_DOT]];
+                    let same = |a: [f64; 2], b: [f64; 2]| {
+                        a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits()
+                    };
                     for k in 0..m.z {
                         let out = output_forces(&m, t, y, Some(&sys.track), Some(k));
                         let loads = [diag.inner_load[k], diag.outer_load[k]];
-                        let same = |a: [f64; 2], b: [f64; 2]| {
-                            a[0].to_bits() == b[0].to_bits() && a[1].to_bits() == b[1].to_bits()
-                        };
                         assert!(
                             same(out.accel, want),
                             "{guidance:?} {level:?} t = {t}: {:?} != {want:?}",
@@ -566,22 +573,11 @@ mod tests {
                         );
                     }
                     steps += 1;
-                }
+                });
                 assert!(steps > 50, "{guidance:?} {level:?}: {steps} steps");
             }
         }
     }
-}
-
-#[cfg(test)]
-mod quasi_static_tests {
-    use crate::dynamics::error_scale::scales;
-    use crate::dynamics::integrator::FsalRk4;
-    use crate::dynamics::solver::{Solver, StepLimits};
-    use crate::dynamics::system::BearingSystem;
-    use crate::model::Model;
-    use crate::quasi_static::{initial_state, solve_model};
-    use crate::scene::{fault_case_scene, FaultCase, Fidelity};
 
     /// The in-plane forces a quasi-static ball's balance takes from the last step
     /// (traction, rolling resistance, pocket, drag) stay of the size of the traction: the
@@ -596,25 +592,12 @@ mod quasi_static_tests {
         s.solver.fidelity = Fidelity::QuasiStaticBalls;
         s.solver.traction_strips = 4;
         let m = Model::new(&s.validated().unwrap());
-        let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
-        let (scale, phase) = scales(&m);
-        let n = m.layout.len;
-        let mut sys = BearingSystem::new(&m, &scale);
-        let method = FsalRk4::new(n, 1e-5, 1e-5, scale.clone(), phase);
-        let limits = StepLimits {
-            t_end: 0.04,
-            initial_step: 1e-5,
-            max_step: 1e-4,
-            min_step: 1e-14,
-        };
-        let mut solver = Solver::new(&mut sys, method, initial_state(&m, &qs), limits);
         let mut largest: f64 = 0.0;
-        while !solver.finished() {
-            solver.step(&mut sys).unwrap();
+        each_step(&m, 0.04, |_, _, sys| {
             for f in &sys.diag.ball_other_force {
                 largest = largest.max(f[0].hypot(f[1]));
             }
-        }
+        });
         assert!(largest < 10.0, "largest lagged force {largest} N");
     }
 }
