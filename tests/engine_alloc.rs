@@ -6,7 +6,7 @@
 use bearing_core::dynamics::rhs::{rhs, Diagnostics};
 use bearing_core::model::Model;
 use bearing_core::quasi_static::{initial_state, solve_model};
-use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity};
+use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity, Integrator};
 use bearing_core::simulation::{simulate, RunControl};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -59,6 +59,12 @@ fn rhs_and_stepping_loop_do_not_allocate() {
         scene.solver.fidelity = fidelity;
         no_allocation(&scene, fidelity);
     }
+    // and the Rosenbrock method at a reduced level, whose Jacobian is the cage's land film
+    // alone, filled afresh at every step from a scratch state
+    let mut scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+    scene.solver.fidelity = Fidelity::QuasiStaticBalls;
+    scene.solver.integrator = Integrator::RosenbrockW;
+    no_allocation(&scene, Fidelity::QuasiStaticBalls);
 }
 
 fn no_allocation(scene: &bearing_core::scene::Scene, fidelity: Fidelity) {

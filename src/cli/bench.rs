@@ -37,8 +37,7 @@ pub enum BenchWhat {
         /// Integrators to test (snake_case names of `solver.integrator`).
         #[arg(long, value_delimiter = ',', default_values_t = vec!["rk4_adaptive".to_string(), "rk4_fsal".to_string(), "rosenbrock_w".to_string()])]
         methods: Vec<String>,
-        /// Fidelity levels to run each method at (snake_case names of `solver.fidelity`;
-        /// the Rosenbrock methods run at `full` only).
+        /// Fidelity levels to run each method at (snake_case names of `solver.fidelity`).
         #[arg(long, value_delimiter = ',', default_values_t = vec!["full".to_string(), "quasi_static_balls".to_string(), "concentric_cage".to_string()])]
         levels: Vec<String>,
         /// Tolerance of the reference (adaptive RK4), checked by fixed RK4 at 1 us.
@@ -244,11 +243,6 @@ fn work_precision(
     let mut series = Vec::new();
     for &(level_name, level) in &levels {
         for &(name, integrator) in &methods {
-            if !level.is_full() && matches!(integrator, Integrator::RosenbrockW | Integrator::Auto)
-            {
-                eprintln!("{name} at {level_name}: refused by the scene validation, skipped");
-                continue;
-            }
             let label = if level.is_full() {
                 name.to_string()
             } else {

@@ -372,17 +372,17 @@ pub fn catalogue() -> Vec<StressScene> {
             0.02,
             None,
         ),
+        // Until 2026-11-24 refused: with the whole block Jacobian its step underflowed
+        // within 3 ms; with the land film's Jacobian alone it runs (dynamics::system).
         s(
             "reduced_fidelity_implicit",
-            "fidelity: quasi_static_balls with rosenbrock_w (its step underflows)",
+            "fidelity: quasi_static_balls with rosenbrock_w (the land film's Jacobian)",
             |t| {
                 let mut s = reduced(t, Fidelity::QuasiStaticBalls);
                 s.solver.integrator = Integrator::RosenbrockW;
                 s
             },
-            Refused {
-                field: "solver.integrator",
-            },
+            runs(SAME_COST),
             0.02,
             None,
         ),

@@ -34,6 +34,11 @@ pub struct BlockJacobian {
     /// Number of Jacobian evaluations and of factorisations.
     pub evaluations: u64,
     pub factorisations: u64,
+    /// Per block: every entry is zero, so `I / (h gamma) - J` is `I / (h gamma)` there and
+    /// neither factored nor solved with (a partial Jacobian, [`BlockJacobian::clear`]).
+    zero: Vec<bool>,
+    /// `h gamma` of the last factorisation.
+    h_gamma: f64,
 }
 
 impl BlockJacobian {
@@ -73,6 +78,7 @@ impl BlockJacobian {
             covered.iter().all(|&c| c),
             "every column needs a colour group"
         );
+        let n_blocks = blocks.len();
         BlockJacobian {
             blocks,
             offsets,
@@ -86,6 +92,8 @@ impl BlockJacobian {
             step: vec![0.0; n],
             evaluations: 0,
             factorisations: 0,
+            zero: vec![false; n_blocks],
+            h_gamma: f64::NAN,
         }
     }
 
@@ -129,14 +137,37 @@ impl BlockJacobian {
         self.evaluations += 1;
     }
 
+    /// Set every entry to zero, before filling in a partial Jacobian with
+    /// [`BlockJacobian::set`].
+    pub fn clear(&mut self) {
+        self.jac.iter_mut().for_each(|v| *v = 0.0);
+        self.evaluations += 1;
+    }
+
+    /// Set the entry `d f_row / d y_col`; both must lie in one block.
+    pub fn set(&mut self, row: usize, col: usize, value: f64) {
+        let k = self.block_of[row];
+        assert_eq!(
+            k, self.block_of[col],
+            "entry ({row}, {col}) is off the blocks"
+        );
+        let b = &self.blocks[k];
+        self.jac[self.offsets[k] + (row - b.start) * b.len() + (col - b.start)] = value;
+    }
+
     /// Factor `I / (h gamma) - J` block by block (partial pivoting). Returns false when a
     /// block is singular.
     pub fn factor(&mut self, h_gamma: f64) -> bool {
         let d = 1.0 / h_gamma;
         self.factorisations += 1;
+        self.h_gamma = h_gamma;
         for (k, b) in self.blocks.iter().enumerate() {
             let s = b.len();
             let base = self.offsets[k];
+            self.zero[k] = self.jac[base..base + s * s].iter().all(|&v| v == 0.0);
+            if self.zero[k] {
+                continue;
+            }
             let a = &mut self.lu[base..base + s * s];
             for (dst, src) in a.iter_mut().zip(&self.jac[base..base + s * s]) {
                 *dst = -src;
@@ -155,6 +186,10 @@ impl BlockJacobian {
     /// Solve `(I / (h gamma) - J) x = rhs` in place with the last factorisation.
     pub fn solve(&self, x: &mut [f64]) {
         for (k, b) in self.blocks.iter().enumerate() {
+            if self.zero[k] {
+                x[b.clone()].iter_mut().for_each(|v| *v *= self.h_gamma);
+                continue;
+            }
             let s = b.len();
             let base = self.offsets[k];
             lu_solve(

@@ -277,6 +277,20 @@ pub fn output_forces(
     }
 }
 
+/// The cage's radial acceleration `[y, z]` (m/s^2) from its land film alone (zero without
+/// a land): the stiff part of the cage's motion, which the reduced levels' Rosenbrock
+/// Jacobian holds (`dynamics::system`).
+pub fn cage_land_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
+    let Some(lp) = &m.land else {
+        return [0.0; 2];
+    };
+    let (inner, outer) = ring_motions(m, t, y);
+    let cage = cage_at(m, y, &inner, &outer);
+    let ring = if m.land_on_outer { &outer } else { &inner };
+    let f = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring)).force_on_cage;
+    [f.y / m.cage_mass, f.z / m.cage_mass]
+}
+
 /// The cage's axis as the land sees it.
 #[inline]
 fn cage_axis(cage: &CageMotion) -> AxisMotion {

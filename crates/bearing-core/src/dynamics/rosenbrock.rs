@@ -112,7 +112,14 @@ impl Tableau {
 
 /// A system that can also fill a block-diagonal Jacobian approximation.
 pub trait JacobianSystem: OdeSystem {
-    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian);
+    /// Fill `jac` at `(t, y)` with `f0 = f(t, y)`; returns what that cost, in right-hand
+    /// side evaluations (for the statistics).
+    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64;
+    /// Accepted steps one Jacobian may serve (a W-method keeps its order with any
+    /// approximation; a cheap partial Jacobian is best kept fresh).
+    fn jacobian_max_age(&self) -> u32 {
+        20
+    }
 }
 
 /// Buffers, tolerances and Jacobian bookkeeping of the Rosenbrock-W stepper.
@@ -179,9 +186,8 @@ impl Rosenbrock {
         stats: &mut StepStats,
     ) -> f64 {
         let n = y.len();
-        if self.jac_age >= self.jac_max_age {
-            sys.jacobian(t, y, f0, &mut self.jac);
-            stats.rhs_evals += self.jac.cost_in_rhs() as u64;
+        if self.jac_age >= self.jac_max_age.min(sys.jacobian_max_age()) {
+            stats.rhs_evals += sys.jacobian(t, y, f0, &mut self.jac);
             self.jac_age = 0;
             self.factored_for = f64::NAN;
         }
@@ -318,9 +324,10 @@ mod tests {
         }
     }
     impl JacobianSystem for Test {
-        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) {
+        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
             let k = self.k;
             jac.evaluate(t, y, f0, &[1.0; 3], |t, y, dy| Test { k }.rhs(t, y, dy));
+            jac.cost_in_rhs() as u64
         }
     }
 
@@ -373,8 +380,9 @@ mod tests {
         }
     }
     impl JacobianSystem for Logistic {
-        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) {
+        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
             jac.evaluate(t, y, f0, &[1.0], |t, y, dy| Logistic.rhs(t, y, dy));
+            jac.cost_in_rhs() as u64
         }
     }
 

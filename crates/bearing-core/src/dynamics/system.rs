@@ -3,7 +3,7 @@
 use super::ball_equilibrium::BalanceTrack;
 use super::block_jacobian::BlockJacobian;
 use super::integrator::OdeSystem;
-use super::rhs::{rhs_tracked, Diagnostics};
+use super::rhs::{self, rhs_tracked, Diagnostics};
 use super::rosenbrock::JacobianSystem;
 use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
@@ -19,6 +19,8 @@ pub struct BearingSystem<'m> {
     /// Quasi-static balls: their balance at the last accepted step and how it follows
     /// the rings (Newton's start inside the next step).
     pub track: BalanceTrack,
+    /// Scratch state for the land film's Jacobian (reduced levels).
+    land_y: Vec<f64>,
 }
 
 impl<'m> BearingSystem<'m> {
@@ -28,6 +30,7 @@ impl<'m> BearingSystem<'m> {
             scale,
             diag: Diagnostics::new(model.z),
             track: BalanceTrack::new(model.z),
+            land_y: vec![0.0; model.layout.len],
         }
     }
 }
@@ -99,11 +102,52 @@ impl OdeSystem for BearingSystem<'_> {
 }
 
 impl JacobianSystem for BearingSystem<'_> {
-    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) {
-        let (m, track) = (self.model, &self.track);
+    /// Full fidelity: the block-diagonal Jacobian by coloured differences (31 right-hand
+    /// sides). Reduced levels: only the cage's land film, `d(y'', z'')/d(y, z, y', z')` of
+    /// the cage (with `d(y, z)/d(y', z')` = 1), by differences of the land force alone,
+    /// every other entry zero. What holds a reduced level's explicit step in the ramp is
+    /// that film (docs/benchmarks.md, "Fidelity levels"), and a whole block Jacobian
+    /// there both costs 31 quasi-static right-hand sides and, aged, let the cage's
+    /// radial velocity run away (the step underflowed within 3-8 ms).
+    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
+        let m = self.model;
+        if m.quasi_static_balls {
+            let c = m.layout.cage;
+            jac.clear();
+            jac.set(c + cage::Y, c + cage::Y_DOT, 1.0);
+            jac.set(c + cage::Z, c + cage::Z_DOT, 1.0);
+            if m.land.is_none() {
+                return 0;
+            }
+            let a0 = rhs::cage_land_acceleration(m, t, y);
+            self.land_y.copy_from_slice(y);
+            for col in [cage::Y, cage::Z, cage::Y_DOT, cage::Z_DOT] {
+                let k = c + col;
+                let d = f64::EPSILON.sqrt() * y[k].abs().max(self.scale[k]);
+                self.land_y[k] = y[k] + d;
+                let d = self.land_y[k] - y[k];
+                let a = rhs::cage_land_acceleration(m, t, &self.land_y);
+                self.land_y[k] = y[k];
+                jac.set(c + cage::Y_DOT, k, (a[0] - a0[0]) / d);
+                jac.set(c + cage::Z_DOT, k, (a[1] - a0[1]) / d);
+            }
+            // five land-force evaluations, a small fraction of one right-hand side
+            return 0;
+        }
+        let track = &self.track;
         jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
             rhs_tracked(m, t, y, dy, None, Some(track))
         });
+        jac.cost_in_rhs() as u64
+    }
+    /// The land film's Jacobian is cheap and changes fast with the cage's eccentricity:
+    /// fresh at every step.
+    fn jacobian_max_age(&self) -> u32 {
+        if self.model.quasi_static_balls {
+            1
+        } else {
+            20
+        }
     }
 }
 

@@ -374,16 +374,6 @@ impl Scene {
             c.push("solver.atol", "must be in [1e-14, 0.1]");
         }
         c.pos("solver.max_step", s.max_step, "s");
-        if !s.fidelity.is_full()
-            && matches!(s.integrator, Integrator::RosenbrockW | Integrator::Auto)
-        {
-            // measured: its step underflows within ~3 ms on the Table-1 scene, with or
-            // without faults (docs/model.md, "Fidelity levels")
-            c.push(
-                "solver.integrator",
-                "rosenbrock_w and auto work only at fidelity full; use rk4_fsal, rk4_adaptive or rk4_fixed with a reduced fidelity",
-            );
-        }
         if s.traction_strips < 1 || s.traction_strips > 200 {
             c.push("solver.traction_strips", "must be in 1..=200");
         }
@@ -639,15 +629,14 @@ mod tests {
     }
 
     #[test]
-    fn implicit_integrators_need_full_fidelity() {
+    fn implicit_integrators_are_accepted_at_every_fidelity() {
         let mut s = scene();
-        s.solver.fidelity = Fidelity::QuasiStaticBalls;
-        assert!(s.validate().is_ok());
-        for integrator in [Integrator::RosenbrockW, Integrator::Auto] {
-            s.solver.integrator = integrator;
-            let errs = s.validate().unwrap_err().0;
-            let paths: Vec<&str> = errs.iter().map(|e| e.path.as_str()).collect();
-            assert_eq!(paths, ["solver.integrator"], "{errs:?}");
+        for fidelity in [Fidelity::QuasiStaticBalls, Fidelity::ConcentricCage] {
+            s.solver.fidelity = fidelity;
+            for integrator in [Integrator::RosenbrockW, Integrator::Auto] {
+                s.solver.integrator = integrator;
+                assert!(s.validate().is_ok(), "{fidelity:?} {integrator:?}");
+            }
         }
     }
 
