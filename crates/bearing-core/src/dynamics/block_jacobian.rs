@@ -262,6 +262,25 @@ fn lu_solve(lu: &[f64], s: usize, piv: &[usize], x: &mut [f64]) {
 mod tests {
     use super::*;
 
+    /// A partial Jacobian: cleared, one entry set. The zero block solves as `h gamma x`
+    /// without a factorisation; the other still inverts `I / (h gamma) - J`.
+    #[test]
+    fn a_cleared_block_solves_as_the_scaled_identity() {
+        let mut j = BlockJacobian::new(vec![0..2, 2..4], vec![vec![0, 2], vec![1, 3]]);
+        j.clear();
+        j.set(2, 3, -5.0);
+        let hg = 0.1;
+        assert!(j.factor(hg));
+        let mut x = [1.0, 2.0, 3.0, 4.0];
+        j.solve(&mut x);
+        assert_eq!(&x[..2], &[0.1, 0.2]);
+        // second block: [[10, 5], [0, 10]] u = [3, 4] -> u = [(3 - 5 * 0.4) / 10, 0.4]
+        assert!(
+            (x[3] - 0.4).abs() < 1e-15 && (x[2] - 0.1).abs() < 1e-15,
+            "{x:?}"
+        );
+    }
+
     #[test]
     fn block_solve_inverts_the_shifted_matrix() {
         // Two blocks of a linear map f = J y; coloured FD is exact for a linear f up to
