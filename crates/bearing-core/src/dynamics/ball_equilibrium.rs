@@ -147,11 +147,11 @@ pub fn ball_equilibrium(
         }
         j[1][1] += mass * w2;
         slope[1][1] += mass * w2;
-        (r, j, ji, jo, slope)
+        (r, j, ji, jo, slope, [open_i, open_o])
     };
     let norm = |r: [f64; 2]| (r[0] * r[0] + r[1] * r[1]).sqrt();
     let mut p = start;
-    let (mut r, mut j, mut ji, mut jo, mut slope) = residual(p);
+    let (mut r, mut j, mut ji, mut jo, mut slope, mut open) = residual(p);
     for _ in 0..MAX_ITERATIONS {
         if norm(r) == 0.0 {
             break;
@@ -167,19 +167,25 @@ pub fn ball_equilibrium(
         let size = (d[0] * d[0] + d[1] * d[1]).sqrt();
         if size <= QUADRATIC_RANGE {
             // Newton converges quadratically here: the error left after this update is
-            // of order size^2 / delta (~1e-13 m), so the update is the last, and the
-            // imbalance after it is nil to that order
+            // of order size^2 / delta (~1e-13 m), so the update is the last. The imbalance
+            // after it is r + slope d to first order: nil with both contacts closed
+            // (slope = j), the steering's share (~1e-2 N at most) with one open.
             p = [p[0] + d[0], p[1] + d[1]];
-            r = [0.0; 2];
+            r = [
+                r[0] + slope[0][0] * d[0] + slope[0][1] * d[1],
+                r[1] + slope[1][0] * d[0] + slope[1][1] * d[1],
+            ];
             break;
         }
         // a long update may open or close a contact: backtrack while it makes the
-        // imbalance worse, as long as a shorter update can help: once the full one has
-        // failed, shorter ones only can if the imbalance falls along `d` to first order
-        // (r . slope d < 0). With both contacts closed that holds (slope = j, so it is
-        // -|r|^2); with one open it may not: a ball that has left a race is held by one
-        // contact alone, in no balance nearby (an unloaded ball), and twelve halvings
-        // cost twelve residuals for nothing (a third of all residuals on the Table-1 case).
+        // imbalance worse, as long as a shorter update can help. A trial that opens or
+        // closes a contact may be too long to meet the race: halve on. A failed trial in
+        // the same contact state as `p` lies where the residual is smooth, and shorter
+        // ones only help if the imbalance falls along `d` to first order (r . slope d <
+        // 0). With both contacts closed that holds (slope = j, so it is -|r|^2); with one
+        // open it may not: a ball that has left a race is held by one contact alone, in
+        // no balance nearby (an unloaded ball), and twelve halvings cost twelve residuals
+        // for nothing (a third of all residuals on the Table-1 case).
         let falls = {
             let sd = [
                 slope[0][0] * d[0] + slope[0][1] * d[1],
@@ -190,17 +196,17 @@ pub fn ball_equilibrium(
         let mut accepted = None;
         for _ in 0..12 {
             let trial = [p[0] + d[0], p[1] + d[1]];
-            let (rt, jt, jit, jot, st) = residual(trial);
+            let (rt, jt, jit, jot, st, ot) = residual(trial);
             if norm(rt) <= norm(r) {
-                accepted = Some((trial, rt, jt, jit, jot, st));
+                accepted = Some((trial, rt, jt, jit, jot, st, ot));
                 break;
             }
-            if !falls {
+            if !falls && ot == open {
                 break;
             }
             d = [0.5 * d[0], 0.5 * d[1]];
         }
-        let Some((trial, rt, jt, jit, jot, st)) = accepted else {
+        let Some((trial, rt, jt, jit, jot, st, ot)) = accepted else {
             break;
         };
         p = trial;
@@ -209,6 +215,7 @@ pub fn ball_equilibrium(
         ji = jit;
         jo = jot;
         slope = st;
+        open = ot;
     }
     // how the balance moves with the rings: a shift d of a ring's centre (in the ball's
     // plane) shifts that contact's force by -J_ring d, so the balance by J^-1 J_ring d

@@ -271,6 +271,9 @@ mod tests {
         j.set(2, 3, -5.0);
         let hg = 0.1;
         assert!(j.factor(hg));
+        // the cleared block is marked and not factored
+        assert_eq!(j.zero, [true, false]);
+        assert!(j.lu[..4].iter().all(|&v| v == 0.0), "{:?}", &j.lu[..4]);
         let mut x = [1.0, 2.0, 3.0, 4.0];
         j.solve(&mut x);
         assert_eq!(&x[..2], &[0.1, 0.2]);

@@ -192,6 +192,8 @@ impl Rosenbrock {
             self.factored_for = f64::NAN;
         }
         if self.factored_for != h && !self.jac.factor(h * GAMMA) {
+            // the factors are partly for this h now: refactor whatever comes next
+            self.factored_for = f64::NAN;
             return f64::INFINITY;
         }
         self.factored_for = h;

@@ -161,7 +161,8 @@ pub struct AnalysisReport {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kurtogram: Option<KurtogramReport>,
     /// The kurtogram's band of largest kurtosis that does not overlap `kurtogram`'s and is
-    /// as wide, when `kurtogram_levels` was asked for and such a band exists.
+    /// wide enough for the harmonics searched (as `kurtogram`'s must be), when
+    /// `kurtogram_levels` was asked for and such a band exists.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub kurtogram_runner_up: Option<KurtogramReport>,
     /// Fault types indicated and the evidence, read from the raw spectrum and the best and
