@@ -6,7 +6,7 @@
 use super::ball_equilibrium::{ball_equilibrium, BalanceTrack};
 use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
-use crate::physics::cage_land::{land_on_cage, AxisMotion};
+use crate::physics::cage_land::{land_on_cage, AxisMotion, LandOnCage};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion, PocketResult};
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
@@ -258,10 +258,8 @@ pub fn output_forces(
             f_cage += pc.force_on_cage;
         }
     }
-    if let Some(lp) = &m.land {
-        if m.land_on_outer || pockets_reach_outer {
-            let ring = if m.land_on_outer { &outer } else { &inner };
-            let lr = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring));
+    if m.land_on_outer || pockets_reach_outer {
+        if let Some(lr) = cage_on_land(m, &cage, &inner, &outer) {
             f_cage += lr.force_on_cage;
             if m.land_on_outer {
                 f_outer -= lr.force_on_cage;
@@ -281,14 +279,29 @@ pub fn output_forces(
 /// a land): the stiff part of the cage's motion, which the reduced levels' Rosenbrock
 /// Jacobian holds (`dynamics::system`).
 pub fn cage_land_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
-    let Some(lp) = &m.land else {
+    if m.land.is_none() {
         return [0.0; 2];
-    };
+    }
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
-    let ring = if m.land_on_outer { &outer } else { &inner };
-    let f = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring)).force_on_cage;
-    [f.y / m.cage_mass, f.z / m.cage_mass]
+    cage_on_land(m, &cage, &inner, &outer).map_or([0.0; 2], |lr| {
+        let f = lr.force_on_cage;
+        [f.y / m.cage_mass, f.z / m.cage_mass]
+    })
+}
+
+/// The cage-land film (eqs. 23-28) between `cage` and the ring that guides it, relative to
+/// that ring; `None` without a land.
+#[inline]
+fn cage_on_land(
+    m: &Model,
+    cage: &CageMotion,
+    inner: &RingMotion,
+    outer: &RingMotion,
+) -> Option<LandOnCage> {
+    let lp = m.land.as_ref()?;
+    let ring = if m.land_on_outer { outer } else { inner };
+    Some(land_on_cage(lp, &cage_axis(cage), &ring_axis(ring)))
 }
 
 /// The cage's axis as the land sees it.
@@ -416,9 +429,7 @@ pub fn rhs_tracked(
     // Cage-land (eqs. 23-28), relative to the guiding ring, over the land's width.
     let mut cage_torque_x = 0.0;
     let mut land_ecc = 0.0;
-    if let Some(lp) = &m.land {
-        let ring = if m.land_on_outer { &outer } else { &inner };
-        let lr = land_on_cage(lp, &cage_axis(&cage), &ring_axis(ring));
+    if let Some(lr) = cage_on_land(m, &cage, &inner, &outer) {
         f_cage += lr.force_on_cage;
         m_cage += lr.moment_on_cage;
         cage_torque_x = lr.torque_on_cage;
