@@ -89,9 +89,19 @@ fn fidelity_compares_each_level_with_full() {
         "quasi_static_balls",
         "--strips",
         "4",
+        "--quadratures",
+        "equal_strips,gauss",
     ]);
-    assert_eq!(rows(&table, "full").len(), 1, "{table}");
+    let full = rows(&table, "full");
+    assert_eq!(full.len(), 1, "{table}");
+    // the reference is the scene's default: 10 Gauss samples
+    assert_eq!((full[0][2], full[0][3]), ("10", "gauss"), "{table}");
     let qs = rows(&table, "quasi_static_balls");
-    assert_eq!(qs.len(), 1, "{table}");
-    assert_eq!((qs[0][1], qs[0][2]), ("rk4_fsal", "4"), "{table}");
+    assert_eq!(qs.len(), 2, "{table}");
+    assert_eq!(
+        (qs[0][1], qs[0][2], qs[0][3]),
+        ("rk4_fsal", "4", "equal_strips"),
+        "{table}"
+    );
+    assert_eq!(qs[1][3], "gauss", "{table}");
 }

@@ -67,6 +67,11 @@ pub enum BenchWhat {
         /// (default: the scene's).
         #[arg(long, value_delimiter = ',')]
         tolerances: Vec<f64>,
+        /// Traction quadratures for the reduced levels (`gauss`, `equal_strips`); several
+        /// (comma-separated) run each level once per rule (default: the scene's). With
+        /// `--levels full` this is a convergence study of the full model.
+        #[arg(long, value_delimiter = ',')]
+        quadratures: Vec<String>,
     },
     /// The stability stress suite: extreme scenes run with their invariants checked, or
     /// refused up front naming the field (bearing_core::stress).
@@ -107,12 +112,14 @@ pub fn main(args: BenchArgs) -> CliResult {
             strips,
             integrator,
             tolerances,
+            quadratures,
         } => super::bench_fidelity::fidelity(
             &on,
             &levels,
             &strips,
             integrator.as_deref(),
             &tolerances,
+            &quadratures,
         ),
         BenchWhat::Stress {
             duration,

@@ -4,6 +4,7 @@
 
 use super::bench_comparison::{comparison_scene, parse_fidelity, read, ComparisonArgs};
 use super::result::CliResult;
+use bearing_core::scene::TractionQuadrature;
 use bearing_core::simulation::{simulate, RunControl};
 
 pub fn fidelity(
@@ -12,6 +13,7 @@ pub fn fidelity(
     strips: &[usize],
     integrator: Option<&str>,
     tolerances: &[f64],
+    quadratures: &[String],
 ) -> CliResult {
     let base = comparison_scene(on)?;
     let levels = levels
@@ -21,15 +23,35 @@ pub fn fidelity(
     eprintln!("reference: full fidelity");
     let full = simulate(&base.clone().validated()?, RunControl::default())?;
     let f = read(&base, &full)?;
-    println!("| level | integrator | strips | tolerance | wall time (s) | speed-up | RHS evaluations | BPFO (Hz) | BPFI (Hz) | cage speed (rad/s) | band RMS < 20 kHz (m/s^2) | peak inner / outer load, ball 0 (N) |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    let quadratures = quadratures
+        .iter()
+        .map(|q| {
+            serde_json::from_value::<TractionQuadrature>(serde_json::Value::String(q.clone()))
+                .map(Some)
+                .map_err(|_| format!("--quadratures: unknown traction quadrature {q}"))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let quadratures = if quadratures.is_empty() {
+        vec![None]
+    } else {
+        quadratures
+    };
+    let rule = |q: TractionQuadrature| -> String {
+        serde_json::to_value(q)
+            .ok()
+            .and_then(|v| v.as_str().map(str::to_string))
+            .unwrap_or_default()
+    };
+    println!("| level | integrator | strips | quadrature | tolerance | wall time (s) | speed-up | RHS evaluations | BPFO (Hz) | BPFI (Hz) | cage speed (rad/s) | band RMS < 20 kHz (m/s^2) | peak inner / outer load, ball 0 (N) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     let rel = |a: f64, b: f64| 100.0 * (a - b) / b;
     println!(
-        "| full | {} | {} | {:.1e} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
+        "| full | {} | {} | {} | {:.1e} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
         serde_json::to_value(base.solver.integrator)?
             .as_str()
             .unwrap_or("?"),
         base.solver.traction_strips,
+        rule(base.solver.traction_quadrature),
         base.solver.rtol,
         f.wall,
         f.rhs,
@@ -53,10 +75,16 @@ pub fn fidelity(
         tolerances.iter().copied().map(Some).collect()
     };
     for (name, level) in levels {
-        for n in &strips {
+        for (n, q) in strips
+            .iter()
+            .flat_map(|n| quadratures.iter().map(move |q| (n, q)))
+        {
             for tol in &tolerances {
                 let mut s = base.clone();
                 s.solver.fidelity = level;
+                if let Some(q) = q {
+                    s.solver.traction_quadrature = *q;
+                }
                 if let Some(n) = n {
                     s.solver.traction_strips = *n;
                 }
@@ -73,9 +101,10 @@ pub fn fidelity(
                 let r = simulate(&s.clone().validated()?, RunControl::default())?;
                 let g = read(&s, &r)?;
                 println!(
-                    "| {name} | {} | {} | {:.1e} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
+                    "| {name} | {} | {} | {} | {:.1e} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
                     serde_json::to_value(s.solver.integrator)?.as_str().unwrap_or("?"),
                     s.solver.traction_strips,
+                    rule(s.solver.traction_quadrature),
                     s.solver.rtol,
                     g.wall,
                     f.wall / g.wall,

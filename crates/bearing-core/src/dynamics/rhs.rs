@@ -625,4 +625,66 @@ mod tests {
         });
         assert!(largest < 10.0, "largest lagged force {largest} N");
     }
+
+    /// The traction quadrature converges faster with Gauss nodes than with eq. 13's equal
+    /// strips (docs/model.md, "Traction quadrature"). At a state of the running Table-1
+    /// bearing (10000 rpm, 5 ms in), the traction moments on the balls from 4 and 10
+    /// Gauss nodes are closer to those of 40 Gauss nodes than 4 and 10 equal strips.
+    #[test]
+    fn gauss_traction_samples_converge_faster_than_equal_strips() {
+        use crate::scene::TractionQuadrature::{EqualStrips, Gauss};
+        let mut s = fault_case_scene("h7005c", FaultCase::None).unwrap();
+        s.operating.speed.initial_rpm = 10_000.0;
+        s.operating.speed.ramp_time = 0.0;
+        let model = |n: usize, q| {
+            let mut s = s.clone();
+            s.solver.traction_strips = n;
+            s.solver.traction_quadrature = q;
+            Model::new(&s.validated().unwrap())
+        };
+        let reference = model(40, Gauss);
+        let (mut t_end, mut y_end) = (0.0, vec![]);
+        each_step(&reference, 5e-3, |t, y, _| {
+            t_end = t;
+            y_end = y.to_vec();
+        });
+        // the traction moments on every ball from both races (the normal load passes
+        // through the ball's centre, so these are the strip sums alone)
+        let ball_rows = |m: &Model| {
+            let (inner, outer) = ring_motions(m, t_end, &y_end);
+            (0..m.z)
+                .flat_map(|j| {
+                    let b = m.layout.ball(j);
+                    let az = Azimuth::new(y_end[b + ball::THETA]);
+                    let motion = ball_motion(&y_end, b, &az);
+                    let ci = race_contact(&m.inner_race, &inner, &motion, &m.contact);
+                    let co = race_contact(&m.outer_race, &outer, &motion, &m.contact);
+                    [ci.moment_on_ball, co.moment_on_ball]
+                })
+                .flat_map(|v| [v.x, v.y, v.z])
+                .collect::<Vec<_>>()
+        };
+        let want = ball_rows(&reference);
+        let off = |n, q| {
+            let got = ball_rows(&model(n, q));
+            let d: f64 = got.iter().zip(&want).map(|(a, b)| (a - b).powi(2)).sum();
+            let w: f64 = want.iter().map(|b| b * b).sum();
+            (d / w).sqrt()
+        };
+        let (g4, e4, g10, e10, e40) = (
+            off(4, Gauss),
+            off(4, EqualStrips),
+            off(10, Gauss),
+            off(10, EqualStrips),
+            off(40, EqualStrips),
+        );
+        let msg = format!("relative error: gauss 4 {g4:e}, equal 4 {e4:e}, gauss 10 {g10:e}, equal 10 {e10:e}, equal 40 {e40:e}");
+        // measured 2026-11-24: gauss 4 1.5e-2 against equal 4 1.0e-1, gauss 10 1.4e-3
+        // against 1.7e-2 (Gauss about n^-2.7 here, the Riemann sum n^-2): factors of 2
+        // and 4 leave room
+        assert!(g4 < 0.5 * e4 && g10 < 0.25 * e10, "{msg}");
+        // the equal strips converge to the same moments, as 1/n^2 (16x from 10 to 40;
+        // 8x leaves room)
+        assert!(e40 < e10 / 8.0, "{msg}");
+    }
 }

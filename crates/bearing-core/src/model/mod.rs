@@ -9,12 +9,13 @@ use crate::physics::defect::RaceDefect;
 use crate::physics::drag::{BallDrag, CavityMedium};
 use crate::physics::frames::Azimuth;
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
-use crate::physics::race_contact::{ContactParams, Race, Strips};
+use crate::physics::race_contact::{ContactParams, Race};
 use crate::physics::rolling_resistance::RollingResistance;
+use crate::physics::strips::{StripRule, Strips};
 use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve, TractionLaw};
 use crate::scene::{
     CageGuidance, CavityDrag, Fidelity, HertzModel, Ring, RollingResistanceModel, TiltMode,
-    Traction, ValidScene,
+    Traction, TractionQuadrature, ValidScene,
 };
 use layout::{cage, inner, outer};
 use std::f64::consts::PI;
@@ -172,7 +173,13 @@ impl Model {
         );
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
         let contact = ContactParams {
-            strips: Strips::new(scene.solver.traction_strips),
+            strips: Strips::new(
+                scene.solver.traction_strips,
+                match scene.solver.traction_quadrature {
+                    TractionQuadrature::Gauss => StripRule::Gauss,
+                    TractionQuadrature::EqualStrips => StripRule::Equal,
+                },
+            ),
             damping_ratio: scene.lubricant.contact_damping_ratio,
             ball_mass,
         };

@@ -12,6 +12,7 @@ pub mod hertz;
 pub mod kinematics;
 pub mod race_contact;
 pub mod rolling_resistance;
+pub mod strips;
 pub mod traction;
 
 pub use nalgebra::{Matrix3, Vector3};

@@ -5,6 +5,7 @@ use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
 use super::rolling_resistance::RollingResistance;
+use super::strips::Strips;
 use super::traction::{film_mu_over_s, ContactTraction, TractionLaw};
 use nalgebra::{Matrix3, Vector3};
 
@@ -86,42 +87,6 @@ pub struct BallMotion {
     pub velocity: Vector3<f64>,
     /// Angular velocity, rad/s.
     pub omega: Vector3<f64>,
-}
-
-/// Traction strips across the contact ellipse's major axis (eq. 13 uses m per semi-axis;
-/// this is the total): their centres as fractions of the semi-axis, and their shares of
-/// the normal load (the parabolic distribution of eq. 13, normalized to sum to 1). Both
-/// depend only on the number of strips, so they are computed once per model.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Strips {
-    /// Strip centres, -1..1 of the semi-major axis.
-    pub xi: Vec<f64>,
-    /// Load shares, summing to 1.
-    pub weight: Vec<f64>,
-}
-
-impl Strips {
-    /// `n` equal strips (at least one).
-    pub fn new(n: usize) -> Strips {
-        let n = n.max(1);
-        let xi: Vec<f64> = (0..n)
-            .map(|i| -1.0 + (i as f64 + 0.5) * 2.0 / n as f64)
-            .collect();
-        let raw: Vec<f64> = xi.iter().map(|x| 1.0 - x * x).collect();
-        let sum: f64 = raw.iter().sum();
-        Strips {
-            weight: raw.iter().map(|w| w / sum).collect(),
-            xi,
-        }
-    }
-
-    pub fn len(&self) -> usize {
-        self.xi.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.xi.is_empty()
-    }
 }
 
 /// Contact parameters shared by all race contacts.
@@ -474,6 +439,7 @@ impl StripSums<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::physics::strips::StripRule;
     use crate::physics::traction::TractionCurve;
 
     /// The strips in passes give exactly the sums of one fused loop over them (the loop
@@ -500,7 +466,7 @@ mod tests {
         for n in [1usize, 7, 8, 9, 17, 200] {
             for c in [c, slow] {
                 let p = ContactParams {
-                    strips: Strips::new(n),
+                    strips: Strips::new(n, StripRule::Equal),
                     damping_ratio: 0.0,
                     ball_mass: 0.0,
                 };
@@ -620,7 +586,7 @@ mod tests {
 
     fn params() -> ContactParams {
         ContactParams {
-            strips: Strips::new(10),
+            strips: Strips::new(10, StripRule::Equal),
             damping_ratio: 0.05,
             ball_mass: 0.7e-3,
         }
