@@ -64,10 +64,11 @@ def drs_residual(x, n, gap):
 
 def envelope_lines(x, fs, lo, hi, targets):
     """dB over the running median (+/-5 Hz) of the strongest line within 1 % of each target."""
-    spec = np.fft.rfft(x * hann(len(x)))
-    f = np.fft.rfftfreq(len(x), 1 / fs)
+    # analytic signal of the band: positive frequencies in the band, doubled
+    spec = np.fft.fft(x * hann(len(x)))
+    f = np.fft.fftfreq(len(x), 1 / fs)
     spec[(f < lo) | (f > hi)] = 0
-    env = np.abs(np.fft.irfft(np.concatenate([spec, np.zeros(len(spec) - 2)]) * 2, len(x))) ** 2
+    env = np.abs(np.fft.ifft(2 * spec)) ** 2
     env -= env.mean()
     m = 2 * len(env)
     ses = np.abs(np.fft.rfft(env * hann(len(env)), m))

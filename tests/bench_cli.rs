@@ -105,3 +105,19 @@ fn fidelity_compares_each_level_with_full() {
     );
     assert_eq!(qs[1][3], "gauss", "{table}");
 }
+
+#[test]
+fn fidelity_refuses_an_unknown_quadrature_before_running() {
+    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["bench", "fidelity", "--quadratures", "gauss,simpson"])
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(!out.status.success());
+    assert!(
+        stderr.contains("--quadratures") && stderr.contains("simpson"),
+        "{stderr}"
+    );
+    // nothing ran: the reference's progress line is not there
+    assert!(!stderr.contains("reference"), "{stderr}");
+}

@@ -20,15 +20,17 @@ pub fn fidelity(
         .iter()
         .map(|l| parse_fidelity(l).map(|f| (l.as_str(), f)))
         .collect::<Result<Vec<_>, _>>()?;
-    eprintln!("reference: full fidelity");
-    let full = simulate(&base.clone().validated()?, RunControl::default())?;
-    let f = read(&base, &full)?;
+    // refused before the reference runs
     let quadratures = quadratures
         .iter()
         .map(|q| {
             serde_json::from_value::<TractionQuadrature>(serde_json::Value::String(q.clone()))
                 .map(Some)
-                .map_err(|_| format!("--quadratures: unknown traction quadrature {q}"))
+                .map_err(|_| {
+                    format!(
+                        "--quadratures: unknown traction quadrature {q} (gauss or equal_strips)"
+                    )
+                })
         })
         .collect::<Result<Vec<_>, _>>()?;
     let quadratures = if quadratures.is_empty() {
@@ -36,6 +38,9 @@ pub fn fidelity(
     } else {
         quadratures
     };
+    eprintln!("reference: full fidelity");
+    let full = simulate(&base.clone().validated()?, RunControl::default())?;
+    let f = read(&base, &full)?;
     let rule = |q: TractionQuadrature| -> String {
         serde_json::to_value(q)
             .ok()

@@ -87,4 +87,31 @@ mod tests {
         assert_eq!(serde_json::from_str::<ValidScene>(&text).unwrap(), v);
         assert_eq!(ValidScene::from_json(&text).unwrap(), v);
     }
+
+    /// A scene stored before `solver.traction_quadrature` existed reads as `gauss`;
+    /// `equal_strips` round-trips; an unknown rule is refused naming the value.
+    #[test]
+    fn traction_quadrature_defaults_to_gauss_and_round_trips() {
+        use crate::scene::TractionQuadrature;
+        let s = crate::scene::preset_scene("h7005c").unwrap();
+        let mut json = serde_json::to_value(&s).unwrap();
+        let solver = json["solver"].as_object_mut().unwrap();
+        assert_eq!(solver.remove("traction_quadrature").unwrap(), "gauss");
+        let old = ValidScene::from_json(&json.to_string()).unwrap();
+        assert_eq!(
+            old.scene().solver.traction_quadrature,
+            TractionQuadrature::Gauss
+        );
+        json["solver"]["traction_quadrature"] = "equal_strips".into();
+        let eq = ValidScene::from_json(&json.to_string()).unwrap();
+        assert_eq!(
+            eq.scene().solver.traction_quadrature,
+            TractionQuadrature::EqualStrips
+        );
+        let text = serde_json::to_string(&eq).unwrap();
+        assert_eq!(ValidScene::from_json(&text).unwrap(), eq);
+        json["solver"]["traction_quadrature"] = "simpson".into();
+        let err = ValidScene::from_json(&json.to_string()).unwrap_err();
+        assert!(err.to_string().contains("simpson"), "{err}");
+    }
 }
