@@ -5,7 +5,9 @@
 //! and reports run time against error relative to a tight reference; `bench stress` runs
 //! the stability stress suite (`bench_stress.rs`).
 
-use super::bench_comparison::{comparison_scene, parse_fidelity, read, ComparisonArgs, Reading};
+use super::bench_comparison::{
+    comparison_scene, parse_fidelity, parse_name, read, ComparisonArgs, Reading,
+};
 use super::result::CliResult;
 use crate::plots::{work_precision_svg, WorkPrecisionSeries};
 use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity, Integrator, Scene};
@@ -180,8 +182,7 @@ fn scene(
 }
 
 fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>> {
-    serde_json::from_value(serde_json::Value::String(name.into()))
-        .map_err(|_| format!("--methods: unknown integrator {name}").into())
+    parse_name("--methods", "integrator", name)
 }
 
 #[allow(clippy::too_many_arguments)]

@@ -39,8 +39,27 @@ pub fn comparison_scene(on: &ComparisonArgs) -> Result<Scene, Box<dyn std::error
 
 /// A `--levels` name as a fidelity level.
 pub fn parse_fidelity(name: &str) -> Result<Fidelity, Box<dyn std::error::Error>> {
+    parse_name("--levels", "fidelity level", name)
+}
+
+/// A scene enum from its snake_case name on the command line (`flag` and `what` name it in
+/// the error).
+pub fn parse_name<T: serde::de::DeserializeOwned>(
+    flag: &str,
+    what: &str,
+    name: &str,
+) -> Result<T, Box<dyn std::error::Error>> {
     serde_json::from_value(serde_json::Value::String(name.into()))
-        .map_err(|_| format!("--levels: unknown fidelity level {name}").into())
+        // serde's message lists the names it accepts
+        .map_err(|e| format!("{flag}: unknown {what} {name} ({e})").into())
+}
+
+/// The snake_case name of a scene enum, as the tables print it.
+pub fn name_of<T: serde::Serialize>(value: T) -> String {
+    serde_json::to_value(value)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_else(|| "?".into())
 }
 
 /// What a comparison reads from one run.

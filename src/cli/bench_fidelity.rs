@@ -2,9 +2,11 @@
 //! run time, the identified fault frequencies, mean cage speed, band RMS and peak contact
 //! loads.
 
-use super::bench_comparison::{comparison_scene, parse_fidelity, read, ComparisonArgs};
+use super::bench_comparison::{
+    comparison_scene, name_of, parse_fidelity, parse_name, read, ComparisonArgs,
+};
 use super::result::CliResult;
-use bearing_core::scene::TractionQuadrature;
+use bearing_core::scene::{Integrator, TractionQuadrature};
 use bearing_core::simulation::{simulate, RunControl};
 
 pub fn fidelity(
@@ -20,17 +22,11 @@ pub fn fidelity(
         .iter()
         .map(|l| parse_fidelity(l).map(|f| (l.as_str(), f)))
         .collect::<Result<Vec<_>, _>>()?;
-    // refused before the reference runs
+    // every option parsed before the reference runs
     let quadratures = quadratures
         .iter()
         .map(|q| {
-            serde_json::from_value::<TractionQuadrature>(serde_json::Value::String(q.clone()))
-                .map(Some)
-                .map_err(|_| {
-                    format!(
-                        "--quadratures: unknown traction quadrature {q} (gauss or equal_strips)"
-                    )
-                })
+            parse_name::<TractionQuadrature>("--quadratures", "traction quadrature", q).map(Some)
         })
         .collect::<Result<Vec<_>, _>>()?;
     let quadratures = if quadratures.is_empty() {
@@ -38,25 +34,20 @@ pub fn fidelity(
     } else {
         quadratures
     };
+    let integrator = integrator
+        .map(|name| parse_name::<Integrator>("--integrator", "integrator", name))
+        .transpose()?;
     eprintln!("reference: full fidelity");
     let full = simulate(&base.clone().validated()?, RunControl::default())?;
     let f = read(&base, &full)?;
-    let rule = |q: TractionQuadrature| -> String {
-        serde_json::to_value(q)
-            .ok()
-            .and_then(|v| v.as_str().map(str::to_string))
-            .unwrap_or_default()
-    };
     println!("| level | integrator | strips | quadrature | tolerance | wall time (s) | speed-up | RHS evaluations | BPFO (Hz) | BPFI (Hz) | cage speed (rad/s) | band RMS < 20 kHz (m/s^2) | peak inner / outer load, ball 0 (N) |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     let rel = |a: f64, b: f64| 100.0 * (a - b) / b;
     println!(
         "| full | {} | {} | {} | {:.1e} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
-        serde_json::to_value(base.solver.integrator)?
-            .as_str()
-            .unwrap_or("?"),
+        name_of(base.solver.integrator),
         base.solver.traction_strips,
-        rule(base.solver.traction_quadrature),
+        name_of(base.solver.traction_quadrature),
         base.solver.rtol,
         f.wall,
         f.rhs,
@@ -97,19 +88,17 @@ pub fn fidelity(
                     s.solver.rtol = *tol;
                     s.solver.atol = *tol;
                 }
-                if let Some(name) = integrator {
-                    s.solver.integrator =
-                        serde_json::from_value(serde_json::Value::String(name.into()))
-                            .map_err(|_| format!("--integrator: unknown integrator {name}"))?;
+                if let Some(i) = integrator {
+                    s.solver.integrator = i;
                 }
                 eprintln!("{name}");
                 let r = simulate(&s.clone().validated()?, RunControl::default())?;
                 let g = read(&s, &r)?;
                 println!(
                     "| {name} | {} | {} | {} | {:.1e} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
-                    serde_json::to_value(s.solver.integrator)?.as_str().unwrap_or("?"),
+                    name_of(s.solver.integrator),
                     s.solver.traction_strips,
-                    rule(s.solver.traction_quadrature),
+                    name_of(s.solver.traction_quadrature),
                     s.solver.rtol,
                     g.wall,
                     f.wall / g.wall,

@@ -112,14 +112,10 @@ impl BlockJacobian {
         scale: &[f64],
         mut rhs: impl FnMut(f64, &[f64], &mut [f64]),
     ) {
-        let eps = f64::EPSILON.sqrt();
         for gi in 0..self.groups.len() {
             self.y_work.copy_from_slice(y);
             for &c in &self.groups[gi] {
-                let d = eps * y[c].abs().max(scale[c]);
-                // the increment actually represented in floating point
-                self.y_work[c] = y[c] + d;
-                self.step[c] = self.y_work[c] - y[c];
+                (self.y_work[c], self.step[c]) = difference_step(y[c], scale[c]);
             }
             rhs(t, &self.y_work, &mut self.f_work);
             for &c in &self.groups[gi] {
@@ -200,6 +196,13 @@ impl BlockJacobian {
             );
         }
     }
+}
+
+/// A forward difference's perturbed value of a component `y` of natural size `scale`
+/// (sqrt(eps) relative), and the increment actually represented in floating point.
+pub fn difference_step(y: f64, scale: f64) -> (f64, f64) {
+    let perturbed = y + f64::EPSILON.sqrt() * y.abs().max(scale);
+    (perturbed, perturbed - y)
 }
 
 /// LU factorisation with partial pivoting of the `s x s` row-major `a`, in place;

@@ -1,7 +1,7 @@
 //! The bearing model as an ODE system for the integrators.
 
 use super::ball_equilibrium::BalanceTrack;
-use super::block_jacobian::BlockJacobian;
+use super::block_jacobian::{difference_step, BlockJacobian};
 use super::integrator::OdeSystem;
 use super::rhs::{self, rhs_tracked, Diagnostics};
 use super::rosenbrock::JacobianSystem;
@@ -123,9 +123,8 @@ impl JacobianSystem for BearingSystem<'_> {
             self.land_y.copy_from_slice(y);
             for col in [cage::Y, cage::Z, cage::Y_DOT, cage::Z_DOT] {
                 let k = c + col;
-                let d = f64::EPSILON.sqrt() * y[k].abs().max(self.scale[k]);
-                self.land_y[k] = y[k] + d;
-                let d = self.land_y[k] - y[k];
+                let d;
+                (self.land_y[k], d) = difference_step(y[k], self.scale[k]);
                 let a = rhs::cage_land_acceleration(m, t, &self.land_y);
                 self.land_y[k] = y[k];
                 jac.set(c + cage::Y_DOT, k, (a[0] - a0[0]) / d);
