@@ -242,8 +242,8 @@ fn lu_in_place(a: &mut [f64], s: usize, piv: &mut [usize]) -> bool {
 }
 
 fn lu_solve(lu: &[f64], s: usize, piv: &[usize], x: &mut [f64]) {
-    for i in 0..s {
-        x.swap(i, piv[i]);
+    for (i, &p) in piv[..s].iter().enumerate() {
+        x.swap(i, p);
     }
     for i in 0..s {
         let mut v = x[i];
