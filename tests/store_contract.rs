@@ -43,6 +43,7 @@ contract!(
     heartbeats_keep_progress_monotone_and_bump_the_version,
     a_cancel_requested_job_whose_worker_died_ends_cancelled,
     concurrent_claims_take_every_job_exactly_once,
+    workers_claim_only_the_input_formats_they_run,
     concurrent_submissions_fill_the_queue_to_its_bound_exactly,
     studies_share_identical_points_and_earlier_runs,
     a_study_over_the_queue_bound_stores_nothing,
@@ -77,6 +78,7 @@ fn new_job_of(tenant: &str, key: Option<&str>, hash: &str) -> NewJob {
         input_blob: None,
         idempotency_key: key.map(String::from),
         request_hash: hash.into(),
+        input_format: INPUT_FORMAT,
     }
 }
 
@@ -362,6 +364,34 @@ async fn a_cancel_requested_job_whose_worker_died_ends_cancelled(s: Arc<dyn Stor
     assert_eq!(j.state, JobState::Cancelled);
     assert_eq!(j.error.unwrap().kind, FailureKind::Cancelled);
     assert!(s.claim("B", 1000).await.unwrap().is_none(), "not run again");
+}
+
+/// A mixed-version deployment: a job written in a newer input format waits for a worker
+/// that runs it, and does not hold up the older-format jobs queued behind it.
+async fn workers_claim_only_the_input_formats_they_run(s: Arc<dyn Store>) {
+    let newer = NewJob {
+        input_format: INPUT_FORMAT + 1,
+        ..new_job(None, "n")
+    };
+    let newer = s.create_job(newer, 10).await.unwrap().job.id;
+    let older = s.create_job(new_job(None, "o"), 10).await.unwrap().job.id;
+    let c = s.claim("old worker", 60_000).await.unwrap().unwrap();
+    assert_eq!(
+        c.lease.id, older,
+        "the older format is taken past the newer one"
+    );
+    s.finish(&c.lease, succeeded(vec![])).await.unwrap();
+    assert!(
+        s.claim("old worker", 60_000).await.unwrap().is_none(),
+        "a worker never claims a format newer than its own"
+    );
+    assert_eq!(s.get_job(&newer).await.unwrap().state, JobState::Queued);
+    let c = s
+        .claim_up_to("new worker", 60_000, INPUT_FORMAT + 1)
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!((c.lease.id.as_str(), c.lease.attempt), (newer.as_str(), 1));
 }
 
 async fn concurrent_claims_take_every_job_exactly_once(s: Arc<dyn Store>) {
@@ -673,4 +703,38 @@ async fn postgres_notifies_listeners_of_new_and_requeued_work() {
             .is_err(),
         "woken with nothing to claim"
     );
+}
+
+/// Upgrading the embedded database keeps what was queued: a job stored before jobs had an
+/// input format (schema of migrations 0001-0003) is format 1 after the migration and runs.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_job_queued_before_the_input_format_column_is_claimed_after_the_upgrade() {
+    let dir = tempfile::tempdir().unwrap();
+    let old = dir.path().join("old-migrations");
+    std::fs::create_dir(&old).unwrap();
+    let here = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("migrations/sqlite");
+    for name in ["0001_jobs.sql", "0002_studies.sql", "0003_tenants.sql"] {
+        std::fs::copy(here.join(name), old.join(name)).unwrap();
+    }
+    let url = format!("sqlite://{}?mode=rwc", dir.path().join("t.db").display());
+    {
+        let pool = sqlx::SqlitePool::connect(&url).await.unwrap();
+        sqlx::migrate::Migrator::new(old.as_path())
+            .await
+            .unwrap()
+            .run(&pool)
+            .await
+            .unwrap();
+        sqlx::query(
+            "INSERT INTO jobs (id, kind, state, input, created_at, updated_at) \
+             VALUES ('before', 'simulation', 'queued', '{}', 1, 1)",
+        )
+        .execute(&pool)
+        .await
+        .unwrap();
+        pool.close().await;
+    }
+    let s = store::connect(&url).await.unwrap();
+    let c = s.claim("W", 60_000).await.unwrap().expect("the old job");
+    assert_eq!(c.lease.id, "before");
 }

@@ -12,7 +12,9 @@ use super::state::AppState;
 use super::study_views::{design_of, rows, study_etag, study_location, view, StudyPage, StudyView};
 use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::store::blob::decode_f32le;
-use crate::store::{ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, StoreError, Study};
+use crate::store::{
+    ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, StoreError, Study, INPUT_FORMAT,
+};
 use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
 use crate::studies::{plan, to_csv, StudyRequest, StudyTable};
 use axum::body::Bytes;
@@ -133,6 +135,7 @@ pub async fn submit(
                 input_blob: None,
                 idempotency_key: None,
                 request_hash: p.key.clone(),
+                input_format: INPUT_FORMAT,
             },
             scene_key: p.key.clone(),
         });

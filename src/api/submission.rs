@@ -4,7 +4,7 @@ use super::caller::Caller;
 use super::job_resource::job_response;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
-use crate::store::{JobKind, NewJob};
+use crate::store::{JobKind, NewJob, INPUT_FORMAT};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
 use serde_json::Value;
@@ -52,6 +52,7 @@ pub async fn enqueue(
         // Keys are scoped by kind so the two collections do not collide.
         idempotency_key: key.map(|k| format!("{}:{k}", kind.as_str())),
         request_hash: format!("{:016x}", hasher.0),
+        input_format: INPUT_FORMAT,
     };
     let created = state.store.create_job(new, state.config.max_queued).await?;
     if created.created {

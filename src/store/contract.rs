@@ -69,8 +69,20 @@ pub trait Store: Send + Sync + 'static {
     /// a study holds it as a point.
     async fn delete_job(&self, id: &str) -> Result<(), StoreError>;
 
-    /// Atomically take the oldest queued job under a lease held by `owner`.
-    async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError>;
+    /// Atomically take the oldest queued job whose input format is at most
+    /// `max_input_format` under a lease held by `owner`. Newer jobs are skipped, not
+    /// blocked on: the next older-format job behind them is taken.
+    async fn claim_up_to(
+        &self,
+        owner: &str,
+        lease_ms: i64,
+        max_input_format: i64,
+    ) -> Result<Option<Claimed>, StoreError>;
+
+    /// [`Store::claim_up_to`] the formats this binary runs ([`INPUT_FORMAT`]).
+    async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {
+        self.claim_up_to(owner, lease_ms, INPUT_FORMAT).await
+    }
 
     /// Renew the lease and record progress; tells whether cancel was requested.
     async fn heartbeat(

@@ -148,6 +148,14 @@ pub struct Job {
     pub result: Option<serde_json::Value>,
 }
 
+/// The newest format of stored job inputs (scenes and analysis requests) this binary
+/// writes and can run. Workers claim only jobs whose format is at most theirs, so when
+/// several worker machines share one database during an upgrade, an older worker leaves a
+/// newer job queued for a newer worker instead of failing it as unparsable. Bump it when a
+/// stored input gains a field or a value an older binary would refuse; `tests/input_format.rs`
+/// fails until you do. Format 1 is every input stored before the column existed.
+pub const INPUT_FORMAT: i64 = 1;
+
 /// What a submission stores.
 #[derive(Debug, Clone)]
 pub struct NewJob {
@@ -162,6 +170,8 @@ pub struct NewJob {
     pub idempotency_key: Option<String>,
     /// Hash of the resolved request, compared on idempotent replays.
     pub request_hash: String,
+    /// The format `input` is written in: [`INPUT_FORMAT`] for what this binary writes.
+    pub input_format: i64,
 }
 
 #[derive(Debug, Clone)]

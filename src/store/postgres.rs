@@ -142,8 +142,8 @@ impl Store for PostgresStore {
         let mut tx = self.locked().await?;
         // Under the lock the count is exact; a duplicate key inserts nothing.
         let inserted = sqlx::query(
-            "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at) \
-             SELECT $1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $9 \
+            "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at, input_format) \
+             SELECT $1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $9, $11 \
              WHERE (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < $10 \
              ON CONFLICT (idempotency_key) DO NOTHING",
         )
@@ -157,6 +157,7 @@ impl Store for PostgresStore {
         .bind(&job.label)
         .bind(now)
         .bind(max_queued)
+        .bind(job.input_format)
         .execute(&mut *tx)
         .await?
         .rows_affected();
@@ -259,17 +260,24 @@ impl Store for PostgresStore {
         Err(delete_refusal(self.get_job(id).await?, study))
     }
 
-    async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {
+    async fn claim_up_to(
+        &self,
+        owner: &str,
+        lease_ms: i64,
+        max_input_format: i64,
+    ) -> Result<Option<Claimed>, StoreError> {
         let now = now_ms();
         let row = sqlx::query(&format!(
             "UPDATE jobs SET state = 'running', owner = $1, lease_expires_at = {DB_NOW_MS} + $2, attempt = attempt + 1, \
                  started_at = COALESCE(started_at, $3), updated_at = $3, version = version + 1 \
-             WHERE seq = (SELECT seq FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1 FOR UPDATE SKIP LOCKED) AND state = 'queued' \
+             WHERE seq = (SELECT seq FROM jobs WHERE state = 'queued' AND input_format <= $4 \
+                          ORDER BY seq LIMIT 1 FOR UPDATE SKIP LOCKED) AND state = 'queued' \
              RETURNING id, kind, attempt, input, input_blob, cancel_requested"
         ))
         .bind(owner)
         .bind(lease_ms)
         .bind(now)
+        .bind(max_input_format)
         .fetch_optional(&self.pool)
         .await?;
         row.map(|r| claimed_from_row(owner, &r)).transpose()
@@ -525,8 +533,8 @@ impl Store for PostgresStore {
                     None => {
                         let j = &p.job;
                         sqlx::query(
-                            "INSERT INTO jobs (id, tenant, kind, state, input, request_hash, label, scene_key, created_at, updated_at) \
-                             VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $8)",
+                            "INSERT INTO jobs (id, tenant, kind, state, input, request_hash, label, scene_key, created_at, updated_at, input_format) \
+                             VALUES ($1, $2, $3, 'queued', $4, $5, $6, $7, $8, $8, $9)",
                         )
                         .bind(&j.id)
                         .bind(&study.tenant)
@@ -536,6 +544,7 @@ impl Store for PostgresStore {
                         .bind(&j.label)
                         .bind(&p.scene_key)
                         .bind(now)
+                        .bind(j.input_format)
                         .execute(&mut *tx)
                         .await?;
                         queued += 1;

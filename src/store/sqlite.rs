@@ -81,8 +81,8 @@ impl Store for SqliteStore {
             .map(|k| scoped_idempotency_key(&job.tenant, k));
         // One statement: admission check and insert are atomic; a duplicate key inserts nothing.
         let inserted = sqlx::query(
-            "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at) \
-             SELECT ?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?, ? \
+            "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at, input_format) \
+             SELECT ?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?, ?, ? \
              WHERE (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < ? \
              ON CONFLICT (idempotency_key) DO NOTHING",
         )
@@ -96,6 +96,7 @@ impl Store for SqliteStore {
         .bind(&job.label)
         .bind(now)
         .bind(now)
+        .bind(job.input_format)
         .bind(max_queued)
         .execute(&self.pool)
         .await?
@@ -195,17 +196,24 @@ impl Store for SqliteStore {
         Ok(())
     }
 
-    async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {
+    async fn claim_up_to(
+        &self,
+        owner: &str,
+        lease_ms: i64,
+        max_input_format: i64,
+    ) -> Result<Option<Claimed>, StoreError> {
         let now = now_ms();
         let row = sqlx::query(
             "UPDATE jobs SET state = 'running', owner = ?1, lease_expires_at = ?2, attempt = attempt + 1, \
                  started_at = COALESCE(started_at, ?3), updated_at = ?3, version = version + 1 \
-             WHERE seq = (SELECT seq FROM jobs WHERE state = 'queued' ORDER BY seq LIMIT 1) AND state = 'queued' \
+             WHERE seq = (SELECT seq FROM jobs WHERE state = 'queued' AND input_format <= ?4 ORDER BY seq LIMIT 1) \
+                 AND state = 'queued' \
              RETURNING id, kind, attempt, input, input_blob, cancel_requested",
         )
         .bind(owner)
         .bind(now + lease_ms)
         .bind(now)
+        .bind(max_input_format)
         .fetch_optional(&self.pool)
         .await?;
         row.map(|r| claimed_from_row(owner, &r)).transpose()
@@ -457,8 +465,8 @@ impl Store for SqliteStore {
                     None => {
                         let j = &p.job;
                         sqlx::query(
-                            "INSERT INTO jobs (id, tenant, kind, state, input, request_hash, label, scene_key, created_at, updated_at) \
-                             VALUES (?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?)",
+                            "INSERT INTO jobs (id, tenant, kind, state, input, request_hash, label, scene_key, created_at, updated_at, input_format) \
+                             VALUES (?, ?, ?, 'queued', ?, ?, ?, ?, ?, ?, ?)",
                         )
                         .bind(&j.id)
                         .bind(&study.tenant)
@@ -469,6 +477,7 @@ impl Store for SqliteStore {
                         .bind(&p.scene_key)
                         .bind(now)
                         .bind(now)
+                        .bind(j.input_format)
                         .execute(&mut *tx)
                         .await?;
                         queued += 1;

@@ -1,0 +1,110 @@
+//! `INPUT_FORMAT` moves with the stored job inputs. A queued job stores a resolved scene
+//! (schema `Scene`) or an analysis request (`KinematicGeometry` and `AnalysisOptions`
+//! beside two numbers); workers claim only the formats they run, so a change to those
+//! schemas that an older worker would refuse must come with a new format number. This test
+//! fingerprints the schemas, without their prose, and fails when they change under the
+//! same number.
+
+use bearing_sim::store::INPUT_FORMAT;
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// The schemas a stored input is written in, as the service's OpenAPI document has them.
+const ROOTS: [&str; 3] = ["Scene", "KinematicGeometry", "AnalysisOptions"];
+
+/// Format number -> SHA-256 of its schemas. Append a line when you bump `INPUT_FORMAT`;
+/// never edit an old one.
+const FINGERPRINTS: &[(i64, &str)] = &[(
+    1,
+    "d02cbfcb839a4b409c7b2fa4eeeb5199fb951aa509e340324be92697fa11fdb8",
+)];
+
+/// Keys that document a schema without changing what parses.
+const PROSE: [&str; 4] = ["description", "example", "examples", "title"];
+
+fn strip_prose(v: &Value) -> Value {
+    match v {
+        Value::Object(m) => Value::Object(
+            m.iter()
+                .filter(|(k, _)| !PROSE.contains(&k.as_str()))
+                .map(|(k, v)| (k.clone(), strip_prose(v)))
+                .collect(),
+        ),
+        Value::Array(a) => Value::Array(a.iter().map(strip_prose).collect()),
+        other => other.clone(),
+    }
+}
+
+fn refs(v: &Value, out: &mut Vec<String>) {
+    match v {
+        Value::Object(m) => {
+            for (k, v) in m {
+                match (k.as_str(), v) {
+                    ("$ref", Value::String(r)) => {
+                        out.push(r.trim_start_matches("#/components/schemas/").to_string())
+                    }
+                    _ => refs(v, out),
+                }
+            }
+        }
+        Value::Array(a) => a.iter().for_each(|v| refs(v, out)),
+        _ => {}
+    }
+}
+
+/// Every schema reachable from `ROOTS`, prose removed, keyed by name (sorted, so the JSON
+/// text is canonical: serde_json's map keeps keys sorted).
+fn stored_input_schemas() -> BTreeMap<String, Value> {
+    let doc = serde_json::to_value(bearing_sim::api::openapi::document()).unwrap();
+    let schemas = doc["components"]["schemas"].as_object().unwrap();
+    let mut seen = BTreeSet::new();
+    let mut todo: Vec<String> = ROOTS.iter().map(|s| s.to_string()).collect();
+    let mut out = BTreeMap::new();
+    while let Some(name) = todo.pop() {
+        if !seen.insert(name.clone()) {
+            continue;
+        }
+        let schema = schemas
+            .get(&name)
+            .unwrap_or_else(|| panic!("no schema {name} in the OpenAPI document"));
+        refs(schema, &mut todo);
+        out.insert(name, strip_prose(schema));
+    }
+    out
+}
+
+#[test]
+fn input_format_is_bumped_with_the_stored_input_schemas() {
+    let schemas = stored_input_schemas();
+    // The roots reach the scene's sub-objects: a fingerprint of three names alone would
+    // miss a new field of, say, the solver.
+    for name in ["Solver", "Bearing", "Fault", "TractionQuadrature"] {
+        assert!(schemas.contains_key(name), "{name} not reached");
+    }
+    let text = serde_json::to_string(&schemas).unwrap();
+    let now = format!("{:x}", Sha256::digest(text.as_bytes()));
+    let (latest, recorded) = *FINGERPRINTS.last().unwrap();
+    assert_eq!(
+        latest, INPUT_FORMAT,
+        "FINGERPRINTS ends at format {latest}, INPUT_FORMAT is {INPUT_FORMAT}"
+    );
+    assert!(
+        now == recorded,
+        "the stored job inputs' schemas ({}) changed under INPUT_FORMAT = {INPUT_FORMAT}:\n\
+         set INPUT_FORMAT = {} in src/store/model.rs and append ({}, \"{now}\") to\n\
+         FINGERPRINTS in tests/input_format.rs. Bump it for every change, even one an older\n\
+         binary would accept: a bump only keeps new jobs away from older workers, which is safe.",
+        ROOTS.join(", "),
+        INPUT_FORMAT + 1,
+        INPUT_FORMAT + 1,
+    );
+}
+
+#[test]
+fn fingerprints_are_listed_once_per_format_in_order() {
+    for (i, (format, hex)) in FINGERPRINTS.iter().enumerate() {
+        assert_eq!(*format, i as i64 + 1, "formats run 1, 2, 3, ...");
+        assert_eq!(hex.len(), 64, "a SHA-256 in hex");
+    }
+}
