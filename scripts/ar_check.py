@@ -21,10 +21,9 @@ import subprocess
 import tempfile
 
 import numpy as np
+from cwru_records import cwru_records
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-EVAL = os.path.join(ROOT, "tests/fixtures/eval")
-SHARED = os.path.join(ROOT, "../shared/data/cwru")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 SHORT = {"outer_race": "OR", "inner_race": "IR", "rolling_element": "ball", "cage": "cage"}
 SEARCH = list(range(10, 201, 10))
@@ -79,25 +78,16 @@ def cell(x, p, sig, tmp, truth):
 
 
 def main():
-    signals = json.load(open(os.path.join(EVAL, "manifest.json")))["signals"]
     print("| signal | record | truth | p by kurtosis: verdict | p = 50 | p = 100 | p = 200 |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
-        for sig in signals:
-            if sig["kind"] != "cwru":
-                continue
+        for sig, what, x in cwru_records():
             truth = " + ".join(SHORT.get(t, t) for t in sig["truth"]) or "none"
-            sources = [("excerpt", os.path.join(EVAL, sig["file"]))]
-            whole = os.path.join(SHARED, sig["file"])
-            if os.path.exists(whole):
-                sources.append(("whole", whole))
-            for what, src in sources:
-                x = np.fromfile(src, dtype="<f4").astype(float)
-                best = max(SEARCH, key=lambda p: kurtosis(ar_residual(x, p)))
-                cells = [f"p = {best}: {cell(x, best, sig, tmp, truth)}"]
-                cells += [cell(x, p, sig, tmp, truth) for p in FIXED]
-                print(f"| {sig['id']} | {what} ({len(x) / sig['fs_hz']:.1f} s) | {truth} | "
-                      + " | ".join(cells) + " |", flush=True)
+            best = max(SEARCH, key=lambda p: kurtosis(ar_residual(x, p)))
+            cells = [f"p = {best}: {cell(x, best, sig, tmp, truth)}"]
+            cells += [cell(x, p, sig, tmp, truth) for p in FIXED]
+            print(f"| {sig['id']} | {what} ({len(x) / sig['fs_hz']:.1f} s) | {truth} | "
+                  + " | ".join(cells) + " |", flush=True)
 
 
 if __name__ == "__main__":

@@ -13,10 +13,9 @@ import subprocess
 import tempfile
 
 import numpy as np
+from cwru_records import cwru_records
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-EVAL = os.path.join(ROOT, "tests/fixtures/eval")
-SHARED = os.path.join(ROOT, "../shared/data/cwru")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 
 
@@ -35,25 +34,16 @@ def verdict(path, sig):
 
 
 def main():
-    signals = json.load(open(os.path.join(EVAL, "manifest.json")))["signals"]
     print("| signal | record | truth | verdict, pre-whitened | p outer / inner |")
     print("| --- | --- | --- | --- | --- |")
     with tempfile.TemporaryDirectory() as tmp:
-        for sig in signals:
-            if sig["kind"] != "cwru":
-                continue
-            sources = [("excerpt", os.path.join(EVAL, sig["file"]))]
-            whole = os.path.join(SHARED, sig["file"])
-            if os.path.exists(whole):
-                sources.append(("whole", whole))
-            for what, src in sources:
-                x = np.fromfile(src, dtype="<f4").astype(float)
-                out = os.path.join(tmp, "w.f32le")
-                whiten(x).astype("<f4").tofile(out)
-                faults, p = verdict(out, sig)
-                print(f"| {sig['id']} | {what} ({len(x) / sig['fs_hz']:.1f} s) | "
-                      f"{', '.join(sig['truth'])} | {', '.join(faults) or 'none'} | "
-                      f"{p['outer_race']:.1g} / {p['inner_race']:.1g} |")
+        for sig, what, x in cwru_records():
+            out = os.path.join(tmp, "w.f32le")
+            whiten(x).astype("<f4").tofile(out)
+            faults, p = verdict(out, sig)
+            print(f"| {sig['id']} | {what} ({len(x) / sig['fs_hz']:.1f} s) | "
+                  f"{', '.join(sig['truth'])} | {', '.join(faults) or 'none'} | "
+                  f"{p['outer_race']:.1g} / {p['inner_race']:.1g} |")
 
 
 if __name__ == "__main__":
