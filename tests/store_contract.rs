@@ -44,6 +44,7 @@ contract!(
     a_cancel_requested_job_whose_worker_died_ends_cancelled,
     concurrent_claims_take_every_job_exactly_once,
     workers_claim_only_the_input_formats_they_run,
+    study_points_keep_their_input_format,
     concurrent_submissions_fill_the_queue_to_its_bound_exactly,
     studies_share_identical_points_and_earlier_runs,
     a_study_over_the_queue_bound_stores_nothing,
@@ -392,6 +393,35 @@ async fn workers_claim_only_the_input_formats_they_run(s: Arc<dyn Store>) {
         .unwrap()
         .unwrap();
     assert_eq!((c.lease.id.as_str(), c.lease.attempt), (newer.as_str(), 1));
+    // and a newer worker still runs every older format: "at most", not "equal"
+    let older = s.create_job(new_job(None, "o2"), 10).await.unwrap().job.id;
+    let c = s
+        .claim_up_to("new worker", 60_000, INPUT_FORMAT + 1)
+        .await
+        .unwrap()
+        .expect("an older-format job for a newer worker");
+    assert_eq!(c.lease.id, older);
+}
+
+/// A study's points are stored in the format their jobs carry, like single jobs: a study
+/// submitted through a newer node is not run by an older worker either.
+async fn study_points_keep_their_input_format(s: Arc<dyn Store>) {
+    let mut study = new_study("", &["k1"]);
+    study.points[0].job.input_format = INPUT_FORMAT + 1;
+    let point = s.create_study(study, 10).await.unwrap().study.points[0]
+        .job
+        .id
+        .clone();
+    assert!(
+        s.claim("old worker", 60_000).await.unwrap().is_none(),
+        "a study point in a newer format waits for a newer worker"
+    );
+    let c = s
+        .claim_up_to("new worker", 60_000, INPUT_FORMAT + 1)
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(c.lease.id, point);
 }
 
 async fn concurrent_claims_take_every_job_exactly_once(s: Arc<dyn Store>) {
@@ -737,4 +767,45 @@ async fn a_job_queued_before_the_input_format_column_is_claimed_after_the_upgrad
     let s = store::connect(&url).await.unwrap();
     let c = s.claim("W", 60_000).await.unwrap().expect("the old job");
     assert_eq!(c.lease.id, "before");
+}
+
+/// A rolling upgrade: once a newer release has migrated the database, this one still opens
+/// it (and runs), on both backends. Without that, an older node that restarts mid-upgrade
+/// could not come back, and an upgrade could not be rolled back.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_database_migrated_by_a_newer_release_still_opens() {
+    // what sqlx records for a migration this release does not have
+    const NEWER: &str = "INSERT INTO _sqlx_migrations \
+         (version, description, success, checksum, execution_time) \
+         VALUES (99999999, 'from a newer release', TRUE, $1, 1)";
+    let dir = tempfile::tempdir().unwrap();
+    let mut urls = vec![format!("sqlite://{}", dir.path().join("t.db").display())];
+    if let Some(c) = common::pg_cluster() {
+        urls.push(c.new_database().await);
+    }
+    for url in urls {
+        drop(store::connect(&url).await.unwrap());
+        if url.starts_with("sqlite") {
+            let pool = sqlx::SqlitePool::connect(&url).await.unwrap();
+            sqlx::query(NEWER)
+                .bind(vec![0u8; 48])
+                .execute(&pool)
+                .await
+                .unwrap();
+            pool.close().await;
+        } else {
+            let pool = sqlx::PgPool::connect(&url).await.unwrap();
+            sqlx::query(NEWER)
+                .bind(vec![0u8; 48])
+                .execute(&pool)
+                .await
+                .unwrap();
+            pool.close().await;
+        }
+        let s = store::connect(&url)
+            .await
+            .unwrap_or_else(|e| panic!("{url}: a newer migration stops the store: {e}"));
+        s.create_job(new_job(None, "h"), 10).await.unwrap();
+        assert!(s.claim("W", 60_000).await.unwrap().is_some(), "{url}");
+    }
 }

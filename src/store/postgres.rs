@@ -60,7 +60,11 @@ impl PostgresStore {
             .acquire_timeout(Duration::from_secs(30))
             .connect(url)
             .await?;
-        sqlx::migrate!("./migrations/postgres").run(&pool).await?;
+        let mut migrator = sqlx::migrate!("./migrations/postgres");
+        // A database migrated by a newer release still opens here (migrations are additive:
+        // docs/scale-out.md), so an older node can restart during a rolling upgrade.
+        migrator.set_ignore_missing(true);
+        migrator.run(&pool).await?;
         Ok(PostgresStore {
             pool,
             listener: Default::default(),

@@ -37,7 +37,11 @@ impl SqliteStore {
             .acquire_timeout(Duration::from_secs(30))
             .connect_with(opts)
             .await?;
-        sqlx::migrate!("./migrations/sqlite").run(&pool).await?;
+        let mut migrator = sqlx::migrate!("./migrations/sqlite");
+        // A database migrated by a newer release still opens here (migrations are additive:
+        // docs/scale-out.md), so an older node can restart during a rolling upgrade.
+        migrator.set_ignore_missing(true);
+        migrator.run(&pool).await?;
         Ok(SqliteStore { pool })
     }
 
