@@ -785,22 +785,22 @@ async fn a_database_migrated_by_a_newer_release_still_opens() {
     }
     for url in urls {
         drop(store::connect(&url).await.unwrap());
+        // the same statement through either backend's own pool type
+        macro_rules! record_newer {
+            ($pool:ty) => {{
+                let pool = <$pool>::connect(&url).await.unwrap();
+                sqlx::query(NEWER)
+                    .bind(vec![0u8; 48])
+                    .execute(&pool)
+                    .await
+                    .unwrap();
+                pool.close().await;
+            }};
+        }
         if url.starts_with("sqlite") {
-            let pool = sqlx::SqlitePool::connect(&url).await.unwrap();
-            sqlx::query(NEWER)
-                .bind(vec![0u8; 48])
-                .execute(&pool)
-                .await
-                .unwrap();
-            pool.close().await;
+            record_newer!(sqlx::SqlitePool)
         } else {
-            let pool = sqlx::PgPool::connect(&url).await.unwrap();
-            sqlx::query(NEWER)
-                .bind(vec![0u8; 48])
-                .execute(&pool)
-                .await
-                .unwrap();
-            pool.close().await;
+            record_newer!(sqlx::PgPool)
         }
         let s = store::connect(&url)
             .await
