@@ -7,6 +7,10 @@
 //! [`OdeSystem`]) is kept apart from the solver, which owns every buffer: a step does
 //! not allocate.
 
+// The stage formulas index the state, the stages and the scales at one component; an
+// index reads like the formula, and zipping five slices would not.
+#![allow(clippy::needless_range_loop)]
+
 /// A first-order system `dy/dt = f(t, y)`.
 pub trait OdeSystem {
     fn dim(&self) -> usize;

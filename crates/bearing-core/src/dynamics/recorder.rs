@@ -117,8 +117,8 @@ impl Recorder {
                 v.push(m.cage_offset(&self.scratch_y).1);
             }
             if let Some(v) = self.inner.as_mut() {
-                for k in 0..3 {
-                    v[k].push(interp(i + k));
+                for (k, vk) in v.iter_mut().enumerate() {
+                    vk.push(interp(i + k));
                 }
             }
             if let Some((_, li, lo)) = self.loads.as_mut() {

@@ -145,6 +145,7 @@ fn cage_at(m: &Model, y: &[f64], inner: &RingMotion, outer: &RingMotion) -> Cage
 /// its equilibrium between the rings (`ball_equilibrium`, from the last accepted position
 /// moved with the rings when `track` is given; `record` takes where it now stands).
 #[inline]
+#[allow(clippy::too_many_arguments)] // the hot path's context, passed as it stands (no struct to fill)
 fn ball_at(
     m: &Model,
     y: &[f64],

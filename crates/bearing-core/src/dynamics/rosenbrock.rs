@@ -10,6 +10,9 @@
 //! matrix-vector product:
 //! `(I/(h g) - J) u_i = f(t + alpha_i h, y + sum_j a~_ij u_j) + sum_j (c~_ij / h) u_j`.
 
+// The stage formulas index the state, the stages and the scales at one component; an
+// index reads like the formula, and zipping five slices would not.
+#![allow(clippy::needless_range_loop)]
 // the tableau keeps the digits as published
 #![allow(clippy::excessive_precision)]
 
@@ -244,6 +247,7 @@ impl Rosenbrock {
             sum += e * e;
         }
         let err = (sum / n as f64).sqrt();
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN error counts as a rejection
         if !(err <= 1.0) && self.jac_age > 0 {
             // a rejection with an aged Jacobian: refresh before the retry
             self.jac_age = u32::MAX;
@@ -389,6 +393,7 @@ mod tests {
     }
 
     #[test]
+    #[allow(clippy::single_range_in_vec_init)] // one block of one component
     fn third_order_on_a_nonlinear_problem() {
         let err = |h: f64| {
             let jac = BlockJacobian::new(vec![0..1], vec![vec![0]]);

@@ -125,7 +125,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
             }
         }
     }
-    if let Some(p) = progress.as_deref_mut() {
+    if let Some(p) = progress {
         p(1.0);
     }
     let wall = start.elapsed().as_secs_f64();

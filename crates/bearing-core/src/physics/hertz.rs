@@ -127,7 +127,7 @@ pub fn deflection(k: f64, q: f64) -> f64 {
 /// Halley steps `y (y^3 + 2x) / (2y^3 + x)` (cubic convergence; two leave 6e-15). Zero, negative, subnormal and non-finite inputs go to `f64::cbrt`.
 #[inline]
 pub fn cube_root(x: f64) -> f64 {
-    if !(x >= f64::MIN_POSITIVE && x < f64::INFINITY) {
+    if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&x) {
         return x.cbrt();
     }
     // a third of the biased exponent (and mantissa bits), re-biased

@@ -92,14 +92,11 @@ impl HilbertPlan {
             .process_with_scratch(&mut self.input, &mut self.half, &mut self.scratch)
             .expect("buffer sizes come from the plan");
         let df = fs / n as f64;
-        let keep = |k: usize| {
-            band.map_or(true, |[f0, f1]| {
-                (k as f64 * df) >= f0 && (k as f64 * df) <= f1
-            })
-        };
+        let keep =
+            |k: usize| band.is_none_or(|[f0, f1]| (k as f64 * df) >= f0 && (k as f64 * df) <= f1);
         let scale = 1.0 / n as f64;
         let last = self.half.len() - 1;
-        let nyquist = n % 2 == 0;
+        let nyquist = n.is_multiple_of(2);
         // real part: the band-passed signal (x itself without a band)
         if band.is_some() {
             // the half spectrum is needed twice: work on a copy (allocated on first use)

@@ -155,7 +155,7 @@ pub fn local_median(s: &Spectrum, center_hz: f64) -> f64 {
     let mid = v.len() / 2;
     let (_, m, _) = v.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
     let m = *m;
-    if v.len() % 2 == 0 {
+    if v.len().is_multiple_of(2) {
         let below = v[..mid].iter().copied().fold(f64::NEG_INFINITY, f64::max);
         0.5 * (m + below)
     } else {

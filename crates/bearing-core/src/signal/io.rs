@@ -64,7 +64,7 @@ pub fn parse_signal(
 ) -> Result<Vec<f64>, SignalReadError> {
     let samples = match format {
         SignalFormat::F32le => {
-            if bytes.len() % 4 != 0 {
+            if !bytes.len().is_multiple_of(4) {
                 return Err(err(
                     source_name,
                     format!(

@@ -116,7 +116,7 @@ fn single_sided(c: &[Complex64], n: usize, window_sum: f64) -> Vec<f64> {
     c.iter()
         .enumerate()
         .map(|(k, c)| {
-            let single = if k == 0 || (n % 2 == 0 && k == n / 2) {
+            let single = if k == 0 || (n.is_multiple_of(2) && k == n / 2) {
                 1.0
             } else {
                 2.0

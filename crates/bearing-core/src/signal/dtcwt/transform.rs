@@ -107,7 +107,7 @@ impl Dtcwt1d {
 
         let q = &self.qshift;
         for _ in 1..levels {
-            if lo.len() % 4 != 0 {
+            if !lo.len().is_multiple_of(4) {
                 let (first, last) = (lo[0], lo[lo.len() - 1]);
                 lo.insert(0, first);
                 lo.push(last);
@@ -328,10 +328,10 @@ pub(crate) fn coldfilt(x: &[f64], ha: &[f64], hb: &[f64], y: &mut [f64]) {
     let r = x.len();
     let m = ha.len();
     assert!(
-        r % 4 == 0,
+        r.is_multiple_of(4),
         "coldfilt needs a length that is a multiple of 4"
     );
-    assert!(m % 2 == 0 && hb.len() == m);
+    assert!(m.is_multiple_of(2) && hb.len() == m);
     assert_eq!(y.len(), r / 2);
     let p = m / 2;
     let xe = extend(x, m, m);
@@ -365,8 +365,8 @@ pub(crate) fn coldfilt(x: &[f64], ha: &[f64], hb: &[f64], y: &mut [f64]) {
 pub(crate) fn colifilt(x: &[f64], ha: &[f64], hb: &[f64], y: &mut [f64]) {
     let r = x.len();
     let m = ha.len();
-    assert!(r % 2 == 0, "colifilt needs an even length");
-    assert!(m % 2 == 0 && hb.len() == m);
+    assert!(r.is_multiple_of(2), "colifilt needs an even length");
+    assert!(m.is_multiple_of(2) && hb.len() == m);
     assert_eq!(y.len(), 2 * r);
     let m2 = m / 2;
     let p = m2;
