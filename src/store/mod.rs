@@ -8,6 +8,7 @@
 pub mod blob;
 mod connect;
 mod contract;
+mod migrations;
 pub mod model;
 pub mod postgres;
 mod rows;

@@ -10,6 +10,7 @@
 //! them act on the same snapshot, where SQLite's single writer serialises them.
 
 use super::contract::{Store, StoreError};
+use super::migrations::additive;
 use super::model::*;
 use super::rows::*;
 use async_trait::async_trait;
@@ -60,11 +61,9 @@ impl PostgresStore {
             .acquire_timeout(Duration::from_secs(30))
             .connect(url)
             .await?;
-        let mut migrator = sqlx::migrate!("./migrations/postgres");
-        // A database migrated by a newer release still opens here (migrations are additive:
-        // docs/scale-out.md), so an older node can restart during a rolling upgrade.
-        migrator.set_ignore_missing(true);
-        migrator.run(&pool).await?;
+        additive(sqlx::migrate!("./migrations/postgres"))
+            .run(&pool)
+            .await?;
         Ok(PostgresStore {
             pool,
             listener: Default::default(),

@@ -5,6 +5,7 @@
 //! failing on a read-to-write upgrade.
 
 use super::contract::{Store, StoreError};
+use super::migrations::additive;
 use super::model::*;
 use super::rows::*;
 use async_trait::async_trait;
@@ -37,11 +38,9 @@ impl SqliteStore {
             .acquire_timeout(Duration::from_secs(30))
             .connect_with(opts)
             .await?;
-        let mut migrator = sqlx::migrate!("./migrations/sqlite");
-        // A database migrated by a newer release still opens here (migrations are additive:
-        // docs/scale-out.md), so an older node can restart during a rolling upgrade.
-        migrator.set_ignore_missing(true);
-        migrator.run(&pool).await?;
+        additive(sqlx::migrate!("./migrations/sqlite"))
+            .run(&pool)
+            .await?;
         Ok(SqliteStore { pool })
     }
 
