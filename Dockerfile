@@ -22,7 +22,7 @@ COPY --from=build /bearing-sim /usr/local/bin/bearing-sim
 COPY --from=build --chown=65532:65532 /data /data
 # The container listens on every interface, so it requires API tokens: mount a tokens
 # file (lines from `bearing-sim token NAME`) at /run/secrets/bearing-sim-tokens, or set
-# BEARING_SIM_TOKENS_FILE= (empty) to run open, with a warning (docs/operations.md).
+# BEARING_SIM_TOKENS_FILE= (empty) to run open, with a warning (docs/reference/operations.md).
 # The variable holds the file's path, not a secret (hadolint matches its name).
 # hadolint ignore=DL3064
 ENV BEARING_SIM_BIND=0.0.0.0:8080 \

@@ -1,6 +1,6 @@
 //! The engine benchmarks as a user runs them (`bearing-sim bench ...`), on scenes short
 //! enough for the test suite: they print their table, write their plot and refuse what the
-//! scene validation refuses. (Their figures are in docs/benchmarks.md; nothing is timed.)
+//! scene validation refuses. (Their figures are in docs/lab/benchmarks.md; nothing is timed.)
 
 use std::process::Command;
 

@@ -1,11 +1,11 @@
 //! Every engine item the docs name (`physics::hertz::exact`, `model::Model::new`, ...)
-//! exists at that path, so `docs/model.md` keeps mapping the paper to real functions when
+//! exists at that path, so `docs/reference/model.md` keeps mapping the paper to real functions when
 //! code moves.
 
 use std::path::{Path, PathBuf};
 
 const ENGINE: &str = "crates/bearing-core/src";
-const DOCS: &[&str] = &["docs/model.md", "docs/architecture.md"];
+const DOCS: &[&str] = &["docs/reference/model.md", "docs/reference/architecture.md"];
 
 /// The file of module `segments` (relative to the engine root), if there is one.
 fn module_file(root: &Path, segments: &[&str]) -> Option<PathBuf> {

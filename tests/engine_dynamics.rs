@@ -58,7 +58,7 @@ fn other_integrators_agree_with_quasi_static_and_the_default() {
     }
 }
 
-/// The reduced fidelity levels (docs/model.md, "Fidelity levels") reach the quasi-static
+/// The reduced fidelity levels (docs/reference/model.md, "Fidelity levels") reach the quasi-static
 /// steady state like the full model: the ball centres the Newton solve puts in balance
 /// carry the same load zone and contact angles as the independent quasi-static solver.
 #[test]
@@ -80,7 +80,7 @@ fn reduced_fidelity_levels_agree_with_quasi_static() {
 /// costing fewer right-hand sides. Measured 2026-11-23 (after the cube-root change):
 /// quasi_static_balls -0.016 % and +5.5 % for 0.37 of the evaluations, concentric_cage
 /// +0.041 % and +6.3 % for 0.32. (On
-/// the 0.5 s Table-1 ramp concentric_cage exceeds 10 % of band RMS: docs/benchmarks.md.)
+/// the 0.5 s Table-1 ramp concentric_cage exceeds 10 % of band RMS: docs/lab/benchmarks.md.)
 #[test]
 fn reduced_fidelity_levels_keep_the_full_models_cage_speed_and_signal() {
     let mut full = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
@@ -317,7 +317,7 @@ fn tolerance_changes(case: FaultCase) -> (f64, f64) {
 // passes). The brief's limits are 0.01 % on the mean cage speed and 1 % on the band RMS.
 // Measured 2026-11-21 with the former default (rk4_adaptive, 1e-6 against 1e-7): cage speed
 // changes of 3e-7 to 6e-7, RMS changes of 0.07 % (inner), 0.41 % (outer) and 0.28 %
-// (compound); the current default's figures are in docs/benchmarks.md.
+// (compound); the current default's figures are in docs/lab/benchmarks.md.
 
 #[test]
 fn tighter_tolerance_changes_little_inner_fault() {
@@ -346,7 +346,7 @@ fn tighter_tolerance_keeps_healthy_cage_speed() {
     // (~2.3 m/s^2, mostly the 4th ball-pass harmonic on the pedestal resonance plus lightly
     // loaded balls knocking in their pockets) is chaotic: 25 ms blocks scatter by ~4 %, and a
     // 1e-8 relative change of the axial load moves the 0.3 s RMS by ~1.6 %, as much as a
-    // tolerance change does. It is printed here, not asserted (docs/benchmarks.md).
+    // tolerance change does. It is printed here, not asserted (docs/lab/benchmarks.md).
     let (dc, _) = tolerance_changes(FaultCase::None);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
 }

@@ -155,7 +155,7 @@ fn exact_hertz_matches_an_independent_computation_to_1e_9() {
                 ry / rx
             );
         }
-        // what the Hamrock-Brewe fits cost in accuracy (docs/model.md quotes these)
+        // what the Hamrock-Brewe fits cost in accuracy (docs/reference/model.md quotes these)
         let hb = hamrock_brewe(rx, ry, ep);
         eprintln!(
             "Ry/Rx {:8.3}: Hamrock-Brewe K {:+.2} %, a {:+.2} %, b {:+.2} %",

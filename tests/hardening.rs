@@ -758,7 +758,7 @@ async fn the_largest_accepted_analysis_stays_under_its_memory_bound() {
     .await;
     assert_eq!(job["state"], "succeeded", "{job}");
     let peak = peak_rss(server.pid());
-    // docs/operations.md states 1.25 GiB for an analysis at the per-job limit (measured
+    // docs/reference/operations.md states 1.25 GiB for an analysis at the per-job limit (measured
     // 0.96 GB for 3e6 samples at 16 levels on the development machine)
     assert!(peak < 1_342_177_280, "peak RSS {peak} bytes");
     eprintln!("peak RSS {:.0} MB", peak as f64 / 1e6);

@@ -135,7 +135,7 @@ fn the_kurtogram_band_shows_the_fault_line_too() {
             r.best_component.band_hz[1],
             i.prominence_db
         );
-        // Measured (docs/model.md, "Kurtogram"): on IR007 the band chosen is 5.5-6 kHz and
+        // Measured (docs/reference/model.md, "Kurtogram"): on IR007 the band chosen is 5.5-6 kHz and
         // BPFI reads 11.3 dB there, under the 12 dB detection threshold, where the best
         // DTCWT level detects it; so only the line's frequency is asserted here.
         assert!(err.abs() < TOL_PCT, "{id}: {name} off by {err} %");

@@ -1,6 +1,6 @@
 //! The fault verdict on the committed evaluation set (tests/fixtures/eval, built by
-//! scripts/make_eval_set.py; docs/cwru.md has the full table and the confusion tables from
-//! scripts/eval_report.py).
+//! scripts/fixtures/make_eval_set.py; docs/lab/cwru.md has the full table and the confusion tables from
+//! scripts/reports/eval_report.py).
 //!
 //! What is asserted is what the issue asks and the verdict achieves, with both band-selection
 //! methods (DTCWT components, kurtogram bands):
@@ -10,7 +10,7 @@
 //! - where the verdict falls short it still names no wrong type: OR014 (no outer-race series
 //!   ranks high enough in a 2 s excerpt).
 //!
-//! Not asserted, reported in docs/cwru.md: the ball-fault recordings, and the simulated
+//! Not asserted, reported in docs/lab/cwru.md: the ball-fault recordings, and the simulated
 //! healthy bearing, which shows the variable-compliance BPFO series of a radially loaded
 //! bearing (noise-free, so any test ranks it first).
 
@@ -169,7 +169,7 @@ fn on_noise_the_false_alarm_rate_is_what_it_says() {
     // standard deviations (3.1) above, so a correct test fails this by bad luck < 0.3 % of the
     // time, and the noise is seeded, so it does not flake. Both band-selection methods: the
     // DTCWT's two components and the kurtogram's two bands (5 levels at 6 kHz, the
-    // narrowest band about 100 Hz, as in docs/cwru.md).
+    // narrowest band about 100 Hz, as in docs/lab/cwru.md).
     let g = kinematic_preset("cwru6205").unwrap();
     for kurtogram_levels in [None, Some(5)] {
         let opts = AnalysisOptions {

@@ -3,7 +3,7 @@
 //!
 //! Designs: `paper-trends` (Figures 23-28: speed, axial and radial load for single inner
 //! and outer faults) and `sensitivity` (each trend's end points under every lubricant
-//! variant) on the H7005C scene with the lubricant variants of `docs/paper-trends.md`;
+//! variant) on the H7005C scene with the lubricant variants of `docs/lab/paper-trends.md`;
 //! `table2` (the paper's nine compound-fault sizes) and `request` (any `POST /v1/studies`
 //! body), and `paper-trends` with `--base`, run as the service runs studies
 //! ([`super::study_plan`]). Identical scenes are run once.

@@ -113,7 +113,7 @@ pub struct Config {
     /// Largest estimated storage of one analysis job, bytes: its samples (8 per sample)
     /// and its envelope spectra (4 per bin, levels + 1 spectra of n/2 bins). Default 128
     /// MiB: 3.2 million samples at 16 levels, 7 million at 5; about 1 GB of memory while
-    /// it runs (docs/operations.md).
+    /// it runs (docs/reference/operations.md).
     #[arg(long, env = "BEARING_SIM_MAX_JOB_BYTES", default_value_t = 128 * 1024 * 1024)]
     pub max_job_bytes: i64,
 

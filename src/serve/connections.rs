@@ -17,7 +17,7 @@ use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{watch, Semaphore};
 use tower::ServiceExt;
 
-/// The limits of the connection layer (`Config` flags; docs/operations.md says why).
+/// The limits of the connection layer (`Config` flags; docs/reference/operations.md says why).
 #[derive(Debug, Clone, Copy)]
 pub struct ConnectionLimits {
     /// Connections open at once; one more is answered 503 and closed.

@@ -40,7 +40,7 @@ pub async fn run_until(
     let addr = listener.local_addr()?;
     if tokens.is_empty() && !addr.ip().is_loopback() {
         let warning = format!(
-            "WARNING: serving on {addr}, beyond loopback, WITHOUT API TOKENS: anyone who can reach this address can submit, read, cancel and delete every job. Configure --tokens-file (docs/operations.md)."
+            "WARNING: serving on {addr}, beyond loopback, WITHOUT API TOKENS: anyone who can reach this address can submit, read, cancel and delete every job. Configure --tokens-file (docs/reference/operations.md)."
         );
         eprintln!("{warning}");
         tracing::warn!("{warning}");

@@ -293,7 +293,7 @@ fn factor_name(f: &FactorSpec) -> String {
     }
 }
 
-/// The SI unit of a scene field, from its name's conventions (docs/model.md: SI units,
+/// The SI unit of a scene field, from its name's conventions (docs/reference/model.md: SI units,
 /// speeds in rpm); `None` for a field the table does not know.
 fn unit_of(pointer: &str) -> Option<&'static str> {
     let last = pointer.rsplit('/').next().unwrap_or("");

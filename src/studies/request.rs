@@ -61,7 +61,7 @@ pub enum DesignSpec {
     Named { name: NamedDesign },
 }
 
-/// Designs shipped as data (docs/studies.md).
+/// Designs shipped as data (docs/guide/studies.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
 pub enum NamedDesign {
     /// Figures 23-28: shaft speed, axial load and radial load lines for single inner and

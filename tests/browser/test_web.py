@@ -1,8 +1,8 @@
 """Browser tests of the lab page: Debian's Chromium, headless, driven by Playwright against
 the real `bearing-sim serve` on a loopback port with a temporary database.
 
-Run by scripts/test-all (after the Rust tests built the release binary):
-    python tests/browser/test_web.py [--screenshots docs/screenshots]
+Run by scripts/ci/test-all (after the Rust tests built the release binary):
+    python tests/browser/test_web.py [--screenshots docs/guide/screenshots]
 Exits non-zero on the first failed check. Chromium is /usr/bin/chromium (BEARING_SIM_CHROMIUM
 overrides it); Playwright never downloads a browser here.
 """

@@ -4,7 +4,7 @@
 //! a database of its own ([`PgCluster::new_database`]).
 //!
 //! Without PostgreSQL's server programs the PostgreSQL tests say so loudly and pass,
-//! unless `BEARING_SIM_REQUIRE_POSTGRES=1` (set by `scripts/test-all`, hence by CI), which
+//! unless `BEARING_SIM_REQUIRE_POSTGRES=1` (set by `scripts/ci/test-all`, hence by CI), which
 //! makes the absence a failure.
 
 use std::path::{Path, PathBuf};
@@ -32,7 +32,7 @@ pub fn pg_cluster() -> Option<&'static PgCluster> {
             }
             eprintln!(
                 "\n*** POSTGRESQL TESTS NOT RUN: {why}.\n*** Install PostgreSQL's server \
-                 (Debian: apt-get install postgresql) or run scripts/test-all, which does.\n"
+                 (Debian: apt-get install postgresql) or run scripts/ci/test-all, which does.\n"
             );
             None
         }

@@ -63,7 +63,7 @@ const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 /// `auto` at the limit speed: measured 2.5-2.8x at 0.1 s (its Jacobians count as evaluations).
 const AUTO_AT_LIMIT_SPEED: f64 = 5.0;
 
-/// The fast start's whirl (docs/benchmarks.md, "Pathologies"): measured 9x at 20 ms, 19x
+/// The fast start's whirl (docs/lab/benchmarks.md, "Pathologies"): measured 9x at 20 ms, 19x
 /// at 60 ms, 39x at 0.1 s.
 const FAST_START_WHIRL: f64 = 60.0;
 

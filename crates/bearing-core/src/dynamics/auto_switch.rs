@@ -1,6 +1,6 @@
 //! Stiffness switching between the FSAL-controlled RK4 and the Rosenbrock-W method.
 //!
-//! Measured (docs/benchmarks.md): on the Table-1 scenes the explicit method is the
+//! Measured (docs/lab/benchmarks.md): on the Table-1 scenes the explicit method is the
 //! cheaper at equal error, its step held near the stability limit of the ball-race
 //! contact modes; when the cage whirls on its land film after a fast start, a stiffer
 //! mode holds the explicit step some fifty times below that limit, where the

@@ -8,7 +8,7 @@
 //! they were at the last accepted step (one step of lag, ~1e-5 s, in forces that change
 //! over a ball's passage through the load zone, ~1e-3 s). They are not small in their
 //! effect: left out, they move the contact angles enough to change the mean cage speed
-//! by 0.17 % at a constant 10000 rpm (docs/model.md).
+//! by 0.17 % at a constant 10000 rpm (docs/reference/model.md).
 
 use crate::model::Model;
 use crate::physics::frames::Azimuth;

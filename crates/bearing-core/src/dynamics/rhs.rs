@@ -324,7 +324,7 @@ fn ring_axis(ring: &RingMotion) -> AxisMotion {
         centre: ring.centre,
         velocity: ring.velocity,
         axis: ring.rot * Vector3::x(),
-        // ring tilt rates do not enter surface velocities (docs/model.md)
+        // ring tilt rates do not enter surface velocities (docs/reference/model.md)
         tilt_rate: Vector3::zeros(),
         spin: ring.spin,
     }
@@ -628,7 +628,7 @@ mod tests {
     }
 
     /// The traction quadrature converges faster with Gauss nodes than with eq. 13's equal
-    /// strips (docs/model.md, "Traction quadrature"). At a state of the running Table-1
+    /// strips (docs/reference/model.md, "Traction quadrature"). At a state of the running Table-1
     /// bearing (10000 rpm, 5 ms in), the traction moments on the balls from 4 and 10
     /// Gauss nodes are closer to those of 40 Gauss nodes than 4 and 10 equal strips.
     #[test]

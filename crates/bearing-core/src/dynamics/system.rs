@@ -106,7 +106,7 @@ impl JacobianSystem for BearingSystem<'_> {
     /// sides). Reduced levels: only the cage's land film, `d(y'', z'')/d(y, z, y', z')` of
     /// the cage (with `d(y, z)/d(y', z')` = 1), by differences of the land force alone,
     /// every other entry zero. What holds a reduced level's explicit step in the ramp is
-    /// that film (docs/benchmarks.md, "Fidelity levels"), and a whole block Jacobian
+    /// that film (docs/lab/benchmarks.md, "Fidelity levels"), and a whole block Jacobian
     /// there both costs 31 quasi-static right-hand sides and, aged, let the cage's
     /// radial velocity run away (the step underflowed within 3-8 ms).
     fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {

@@ -10,7 +10,7 @@
 //! viscous drag torque `2 pi eta R^3 L (w_cage - w_ring) / (c sqrt(1 - e^2))` (Petroff,
 //! eccentric). For a cage that does not whirl these are eq. 26's forces (with Ocvirk's `e`
 //! in the tangential term where the paper prints `e^2`); the whirl correction is what
-//! keeps a nearly unloaded cage from whirling without bound (see docs/model.md).
+//! keeps a nearly unloaded cage from whirling without bound (see docs/reference/model.md).
 //! Below the critical film the cage touches the land: a line contact of stiffness
 //! `(pi / 4) E' L` with damping and Coulomb friction. The film formulas are evaluated at
 //! most at the critical eccentricity, so forces stay bounded and continuous.

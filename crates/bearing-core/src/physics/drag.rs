@@ -2,7 +2,7 @@
 //!
 //! Not in the seed paper (its model has no churning terms); Gupta's ADORE and Harris &
 //! Kotzalas model the cavity as a homogeneous oil-air mixture of effective density and
-//! viscosity. Formulas and sources: docs/model.md, "Lubricant drag".
+//! viscosity. Formulas and sources: docs/reference/model.md, "Lubricant drag".
 
 use nalgebra::Vector3;
 use std::f64::consts::PI;

@@ -4,11 +4,11 @@
 //! Why not `f64::exp`: on x86-64 it is a call into libm, and the call makes the strip loop
 //! spill the vector registers it holds around it. The traction curve calls it once per
 //! strip, about 290 times per right-hand side (10 strips x 2 contacts x the balls);
-//! docs/benchmarks.md has the profile.
+//! docs/lab/benchmarks.md has the profile.
 //!
 //! Method (Tang's table-driven scheme, as libm's own): `x = (64 m + j) ln2 / 64 + r` with
 //! `|r| <= ln2 / 128`, so `e^x = 2^m 2^(j/64) e^r`; `2^(j/64)` comes from a table of 64
-//! correctly rounded entries (`scripts/exp_table.py` prints it), `e^r - 1` from its Taylor
+//! correctly rounded entries (`scripts/fixtures/exp_table.py` prints it), `e^r - 1` from its Taylor
 //! polynomial to degree 5 (truncation `|r|^6 / 6!`, about 3.5e-17 of the result), and `2^m` goes
 //! into the exponent bits. The test checks 2 ulp against libm over the whole range.
 
@@ -54,7 +54,7 @@ pub fn exp(x: f64) -> f64 {
     scale + scale * q
 }
 
-/// `2^(j/64)` as f64 bits, correctly rounded (printed by `scripts/exp_table.py`).
+/// `2^(j/64)` as f64 bits, correctly rounded (printed by `scripts/fixtures/exp_table.py`).
 const EXP2_TABLE: [u64; 64] = [
     0x3ff0000000000000, // 2^(0/64)
     0x3ff02c9a3e778061, // 2^(1/64)

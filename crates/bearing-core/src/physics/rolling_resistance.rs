@@ -1,6 +1,6 @@
 //! EHL hydrodynamic rolling resistance at a ball-race contact: the fully flooded,
 //! isothermal fit of Biboulet & Houpert as given by Bălan, Houpert, Tufescu & Olaru,
-//! Lubricants 3 (2015) 222-243, eqs. 1-7 (docs/model.md, "EHL rolling resistance").
+//! Lubricants 3 (2015) 222-243, eqs. 1-7 (docs/reference/model.md, "EHL rolling resistance").
 //!
 //! ```text
 //! F_IVR = 2.9766 E' Rx^2 k^0.3316 W^(1/3) U^(2/3)     (isoviscous-rigid limit)

@@ -5,7 +5,7 @@
 //! strip tractions: a quadrature of `integral mu(x) (1 - x^2) dx` over `-1..1`. The
 //! paper's form is a Riemann sum over equal strips, and on the Table-1 case 10 strips
 //! still leave the mean cage speed 0.016 % and the band RMS below 20 kHz 11.5 % from the
-//! converged integral (docs/model.md, "Traction quadrature"). Gauss quadrature with the
+//! converged integral (docs/reference/model.md, "Traction quadrature"). Gauss quadrature with the
 //! weight `1 - x^2` (Gauss-Jacobi, alpha = beta = 1) converges faster: the integrand has
 //! kinks (where the slip passes through zero, and at the slip regularisation), so not
 //! spectrally, but the balls' traction moments are 0.14 % from converged with 10 nodes

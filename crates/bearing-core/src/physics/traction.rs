@@ -1,5 +1,5 @@
 //! EHL traction coefficient (eqs. 14-15) and its slip-direction decomposition (eq. 16), and
-//! an elastic-plastic film law from the lubricant's properties (docs/model.md, "Traction
+//! an elastic-plastic film law from the lubricant's properties (docs/reference/model.md, "Traction
 //! laws").
 
 use super::exp::exp;
@@ -45,7 +45,7 @@ pub const FILM_SPEED_FLOOR: f64 = 0.01;
 /// Barus exponents above this are capped (the viscous compliance is then negligible).
 const MAX_BARUS_EXPONENT: f64 = 50.0;
 
-/// EHL film traction of one ball-race pair from the lubricant's rheology (docs/model.md,
+/// EHL film traction of one ball-race pair from the lubricant's rheology (docs/reference/model.md,
 /// "Traction laws"), a closed-form reading of the Maxwell-Eyring film with a limiting shear
 /// stress:
 /// - at small slip the film shears elastically over its transit of the contact (Johnson &

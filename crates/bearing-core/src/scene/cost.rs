@@ -5,7 +5,7 @@
 use super::definition::{Integrator, Scene};
 
 /// Accepted step of the explicit step-size-controlled methods at full fidelity on the
-/// Table-1 scene, s: 0.5 s in 100 595 steps with `rk4_fsal` at 1e-5 (docs/benchmarks.md).
+/// Table-1 scene, s: 0.5 s in 100 595 steps with `rk4_fsal` at 1e-5 (docs/lab/benchmarks.md).
 /// The step is held there by the ball-race contact modes, not by the tolerance, so it is
 /// a fair guess for any tolerance; reduced fidelity levels and the implicit method take
 /// larger steps, so the estimate errs on the high side for them.
@@ -60,7 +60,7 @@ mod tests {
 
     #[test]
     fn the_table1_scene_is_estimated_near_its_measured_cost() {
-        // measured: 424 069 evaluations with rk4_fsal at 1e-5 (docs/benchmarks.md); the
+        // measured: 424 069 evaluations with rk4_fsal at 1e-5 (docs/lab/benchmarks.md); the
         // estimate is 4 * 0.5 / 5e-6 + 51 200 = 451 200, within 10 % of it
         let scene = preset_scene("h7005c").unwrap();
         let e = estimate(&scene);

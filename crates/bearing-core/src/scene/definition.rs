@@ -144,7 +144,7 @@ pub struct Lubricant {
     pub rolling_resistance: RollingResistanceModel,
 }
 
-/// The medium the balls and cage move through (docs/model.md, "Lubricant drag").
+/// The medium the balls and cage move through (docs/reference/model.md, "Lubricant drag").
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
@@ -163,14 +163,14 @@ pub enum CavityDrag {
 }
 
 /// Off by default: with drag and rolling resistance on, the Table-1 cage settles into a
-/// half-speed whirl on its land at 10000 rpm (docs/model.md, "Lubricant drag").
+/// half-speed whirl on its land at 10000 rpm (docs/reference/model.md, "Lubricant drag").
 impl Default for CavityDrag {
     fn default() -> Self {
         CavityDrag::None
     }
 }
 
-/// EHL rolling resistance (docs/model.md, "EHL rolling resistance").
+/// EHL rolling resistance (docs/reference/model.md, "EHL rolling resistance").
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
@@ -208,7 +208,7 @@ pub enum Traction {
         mu_inf: f64,
         u_m: f64,
     },
-    /// Film law from the lubricant's rheology (docs/model.md, "Traction laws"): the film
+    /// Film law from the lubricant's rheology (docs/reference/model.md, "Traction laws"): the film
     /// shears elastically at low slip, in series with its piezoviscous flow
     /// (`dynamic_viscosity`, `pressure_viscosity`), thins above the Eyring stress and
     /// carries at most `limiting_coefficient` times the mean Hertz pressure. Far stiffer than
@@ -339,7 +339,7 @@ pub enum Integrator {
     /// Classical RK4 with step-size control from its first-same-as-last stage (an
     /// embedded 3rd-order estimate at no extra evaluation); the default: the same
     /// accuracy as `rk4_adaptive` at 1e-6 for about 70 % of its evaluations
-    /// (docs/benchmarks.md).
+    /// (docs/lab/benchmarks.md).
     #[default]
     Rk4Fsal,
     /// `rk4_fsal`, switching to `rosenbrock_w` while a stiff mode (the cage whirling on its
@@ -351,7 +351,7 @@ pub enum Integrator {
     RosenbrockW,
 }
 
-/// How much of the model a run integrates (docs/model.md, "Fidelity levels").
+/// How much of the model a run integrates (docs/reference/model.md, "Fidelity levels").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
@@ -401,7 +401,7 @@ pub struct Solver {
     pub max_step: f64,
     /// Traction samples across the contact ellipse major axis (eq. 13, 2m strips), -.
     pub traction_strips: usize,
-    /// Where those samples sit and what load each carries (docs/model.md, "Traction
+    /// Where those samples sit and what load each carries (docs/reference/model.md, "Traction
     /// quadrature").
     pub traction_quadrature: TractionQuadrature,
     /// Uniform output sampling rate of the channels, Hz (default 102.4 kHz: above twice the

@@ -1,7 +1,7 @@
 //! Built-in scenes: the paper's H7005C (Table 1) and its Table 2 fault-size groups.
 //!
 //! Every value the paper does not give is chosen here, with its reason beside it; the
-//! same list, longer, is in `docs/model.md`.
+//! same list, longer, is in `docs/reference/model.md`.
 
 use super::definition::*;
 use serde::{Deserialize, Serialize};
@@ -211,7 +211,7 @@ fn h7005c() -> Scene {
             // Barus alpha of a light spindle base oil at 60-80 deg C (1.0-2.2e-8 1/Pa).
             pressure_viscosity: 1.5e-8,
             // The paper's model has neither; with both on, this bearing's cage whirls on its
-            // land at 10000 rpm (docs/model.md). Opt in with `oil_air` (oil fraction 0.01
+            // land at 10000 rpm (docs/reference/model.md). Opt in with `oil_air` (oil fraction 0.01
             // for a channelled grease) and `houpert` (factor 1, fully flooded).
             cavity_drag: CavityDrag::None,
             rolling_resistance: RollingResistanceModel::None,

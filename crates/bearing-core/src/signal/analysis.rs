@@ -64,7 +64,7 @@ pub struct AnalysisOptions {
     pub false_alarm_rate: f64,
     /// Harmonics of each fault family the verdict tests, 2..=20 (default 4; the rolling
     /// element's family takes twice as many of BSF). More harmonics give an impulse train's
-    /// long series more weight; docs/cwru.md shows what 3 to 10 give on the evaluation set.
+    /// long series more weight; docs/lab/cwru.md shows what 3 to 10 give on the evaluation set.
     #[cfg_attr(feature = "openapi", schema(minimum = 2, maximum = 20))]
     pub verdict_harmonics: usize,
 }
@@ -167,7 +167,7 @@ pub struct AnalysisReport {
     pub kurtogram_runner_up: Option<KurtogramReport>,
     /// Fault types indicated and the evidence, read from the raw spectrum and the best and
     /// runner-up components, or the kurtogram's two bands when it was asked for (method in
-    /// docs/model.md, "Verdict"). Absent only in
+    /// docs/reference/model.md, "Verdict"). Absent only in
     /// reports stored before the verdict existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,

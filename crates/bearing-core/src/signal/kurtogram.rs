@@ -122,7 +122,7 @@ pub fn kurtogram(x: &[f64], fs: f64, levels: usize) -> Result<Kurtogram, Kurtogr
     // The record and its mirror image, `2n` samples: an FFT treats its input as periodic,
     // and the plain record's wrap from the last sample to the first is a step, a broadband
     // impulse that gave near-empty bands next to Nyquist a spectral kurtosis in the
-    // hundreds or thousands (measured against Antoni's reference, docs/kurtogram-reference.md).
+    // hundreds or thousands (measured against Antoni's reference, docs/lab/kurtogram-reference.md).
     // The mirrored record wraps without a step.
     let mut spectrum: Vec<Complex64> = x
         .iter()

@@ -51,7 +51,7 @@ use super::identify::{interpolated_frequency, local_median, median_half_width};
 use super::spectrum::Spectrum;
 
 /// Default harmonics of each fault family the verdict uses (`N`; the rolling-element family
-/// uses `2N` harmonics of BSF, i.e. `N` of 2xBSF). docs/cwru.md shows what 3 to 10 give on
+/// uses `2N` harmonics of BSF, i.e. `N` of 2xBSF). docs/lab/cwru.md shows what 3 to 10 give on
 /// the evaluation set.
 pub const DEFAULT_VERDICT_HARMONICS: usize = 4;
 

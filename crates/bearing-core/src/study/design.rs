@@ -36,7 +36,7 @@ impl Factor {
     }
 }
 
-/// The lubricant physics a point runs with (docs/model.md, "Lubricant drag", "EHL rolling
+/// The lubricant physics a point runs with (docs/reference/model.md, "Lubricant drag", "EHL rolling
 /// resistance", "Traction laws"). The seed paper's model is `paper`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LubricantVariant {

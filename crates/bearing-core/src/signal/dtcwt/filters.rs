@@ -1,7 +1,7 @@
 //! Kingsbury filter tables for the 1-D dual-tree complex wavelet transform.
 //!
 //! The coefficients (`filters.json`, float64) are the tables shipped with the Python `dtcwt`
-//! 0.14 package (BSD-2-Clause, N. Kingsbury / R. Wareham); `scripts/gen_signal_fixtures.py`
+//! 0.14 package (BSD-2-Clause, N. Kingsbury / R. Wareham); `scripts/fixtures/gen_signal_fixtures.py`
 //! extracts them and checks them against the package. Only the sets the 1-D transform can use
 //! are kept (the `_bp` variants add 2-D band-pass filters).
 

@@ -1,12 +1,12 @@
 """The CWRU signals of the evaluation set, each as its committed excerpt and, when ../shared
 is there, as its whole recording: the inputs of the pre-processing checks
-(scripts/cpw_check.py, scripts/ar_check.py). Dev helper: needs numpy."""
+(scripts/research/cpw_check.py, scripts/research/ar_check.py). Dev helper: needs numpy."""
 import json
 import os
 
 import numpy as np
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 EVAL = os.path.join(ROOT, "tests/fixtures/eval")
 SHARED = os.path.join(ROOT, "../shared/data/cwru")
 

@@ -2,7 +2,7 @@
 """Compare the band `bearing-sim analyze --kurtogram-levels L` chooses with the band a
 published reference implementation of Antoni's fast kurtogram chooses, on the CWRU
 recordings of the shared data set; print a markdown table (used for
-docs/kurtogram-reference.md). Dev script only, not a test; needs a built binary, numpy,
+docs/lab/kurtogram-reference.md). Dev script only, not a test; needs a built binary, numpy,
 and the reference, which is NOT part of this repository (its code is not copied here):
 
   * --matlab PATH  J. Antoni's own Fast_kurtogram.m (MathWorks File Exchange 48912,
@@ -22,7 +22,7 @@ With both, the first (--matlab) is the one tabulated and the port is a cross-che
 |dK| over the kurtogram, and whether it picks the same bands).
 
     python3 -m venv /tmp/kvenv && /tmp/kvenv/bin/pip install numpy scipy
-    /tmp/kvenv/bin/python scripts/kurtogram_reference.py --binary target/release/bearing-sim \
+    /tmp/kvenv/bin/python scripts/research/kurtogram_reference.py --binary target/release/bearing-sim \
         --matlab /tmp/kref/Fast_kurtogram.m --port /tmp/kref/kurtogram.py \
         --data ../shared/data/cwru [--harmonics 3] [--levels-12k 6] [--levels-48k 8]
 
@@ -266,8 +266,8 @@ def fmt(b):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--binary", default=os.path.join(here, "../target/release/bearing-sim"))
-    ap.add_argument("--data", default=os.path.join(here, "../../shared/data/cwru"))
+    ap.add_argument("--binary", default=os.path.join(here, "../../target/release/bearing-sim"))
+    ap.add_argument("--data", default=os.path.join(here, "../../../shared/data/cwru"))
     ap.add_argument("--matlab", help="path of Antoni's Fast_kurtogram.m (run in octave-cli)")
     ap.add_argument("--port", help="path of kurtogram.py (danielnewman09/Kurtogram-Analysis)")
     ap.add_argument("--harmonics", type=int, default=3)

@@ -5,10 +5,10 @@ its error estimate accepts? Runs the compound-fault H7005C, at a constant 10000 
 work-precision scene), with `rosenbrock_w` at rtol = atol = 1e-5 and the largest step capped
 ever lower, against `rk4_fsal` at 1e-7 (and 1e-5 for scale), and prints the mean cage speed
 and the pedestal Z RMS below and above 20 kHz (steady window from the run's summary) against
-that reference. Dev script (docs/benchmarks.md, "Run time against error"): needs numpy and a
+that reference. Dev script (docs/lab/benchmarks.md, "Run time against error"): needs numpy and a
 release build.
 
-    cargo build --release && python3 scripts/rosenbrock_step_cap.py [--scene table1] [--work DIR]
+    cargo build --release && python3 scripts/research/rosenbrock_step_cap.py [--scene table1] [--work DIR]
 """
 import argparse
 import json
@@ -18,7 +18,7 @@ import tempfile
 
 import numpy as np
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 RUNS = [  # name, solver overrides
     ("rk4_fsal 1e-7 (reference)", dict(integrator="rk4_fsal", rtol=1e-7, atol=1e-7)),

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Run `bearing-sim analyze` on every CWRU recording of the shared data set and print a
-markdown table (used for docs/cwru.md). Dev script only; needs a built binary.
+markdown table (used for docs/lab/cwru.md). Dev script only; needs a built binary.
 
-    cargo build --release && python3 scripts/cwru_report.py ../shared/data/cwru > /tmp/cwru.md
+    cargo build --release && python3 scripts/reports/cwru_report.py ../shared/data/cwru > /tmp/cwru.md
 """
 import json
 import os
@@ -10,7 +10,7 @@ import subprocess
 import sys
 
 DATA = sys.argv[1] if len(sys.argv) > 1 else "../shared/data/cwru"
-BIN = os.environ.get("BEARING_SIM", os.path.join(os.path.dirname(__file__), "../target/release/bearing-sim"))
+BIN = os.environ.get("BEARING_SIM", os.path.join(os.path.dirname(__file__), "../../target/release/bearing-sim"))
 EXPECT = {"inner_race": "BPFI", "outer_race": "BPFO", "ball": "2xBSF", "normal": None}
 MANIFEST_KEY = {"BPFI": "BPFI", "BPFO": "BPFO", "2xBSF": "BSF_2x_rolling_element", "BSF": "BSF", "FTF": "FTF"}
 

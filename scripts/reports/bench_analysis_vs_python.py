@@ -2,11 +2,11 @@
 """Side-by-side benchmark of `bearing-sim analyze` against a Python pipeline (dtcwt 0.14 +
 scipy) on the same 2^20-sample file, in one run on one machine: wall time and peak memory
 (max RSS) of each whole process, median of RUNS alternating runs. Dev script; its table
-goes in docs/benchmarks.md ("Analysis against Python").
+goes in docs/lab/benchmarks.md ("Analysis against Python").
 
     python3 -m venv /tmp/dtv && /tmp/dtv/bin/pip install "numpy<2" dtcwt==0.14.0 scipy
     cargo build --release
-    /tmp/dtv/bin/python scripts/bench_analysis_vs_python.py [--runs 5]
+    /tmp/dtv/bin/python scripts/reports/bench_analysis_vs_python.py [--runs 5]
 
 The signal: 2^20 samples at 51.2 kHz, a 9 kHz resonance struck at 1134.6 Hz (the H7005C's
 BPFO at 10000 rpm) plus uniform noise, as in crates/bearing-core/benches/analysis.rs, written
@@ -29,7 +29,7 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 N = 1 << 20
 FS = 51200.0
 

@@ -3,16 +3,16 @@
 Sawalhi, Randall and Endo (MSSP 21, 2007), which removes the predictable (discrete) part of
 a signal and keeps the impulsive part, on the CWRU signals of the evaluation set and, when
 ../shared is there, on their whole recordings. A check of whether it would rescue OR014
-(docs/cwru.md), not part of the product. Dev script: needs numpy and a release build.
+(docs/lab/cwru.md), not part of the product. Dev script: needs numpy and a release build.
 
-    cargo build --release && python3 scripts/ar_check.py
+    cargo build --release && python3 scripts/research/ar_check.py
 
 The AR coefficients come from the biased autocorrelation by Levinson-Durbin; the residual
 e[n] = sum_k a_k x[n-k] drops its first p samples (where the filter has no full history).
 The order p is chosen as in the paper, by the largest kurtosis of the residual (here over
 p = 10, 20, ..., 200), and, to show how much the verdict depends on that choice, also held
 at 50, 100 and 200. Each cell gives the verdict with the DTCWT method / with the kurtogram
-method (levels as scripts/eval_report.py).
+method (levels as scripts/reports/eval_report.py).
 """
 import json
 import math
@@ -23,7 +23,7 @@ import tempfile
 import numpy as np
 from cwru_records import cwru_records
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 SHORT = {"outer_race": "OR", "inner_race": "IR", "rolling_element": "ball", "cage": "cage"}
 SEARCH = list(range(10, 201, 10))

@@ -2,10 +2,10 @@
 """Discrete/random separation (DRS; Antoni & Randall, MSSP 18, 2004) before the verdict, on
 CWRU OR014 (record 197: 0.014 in outer race, centred, 0 hp, 12 kHz drive end): the first
 step of Smith & Randall's "Method 3" (MSSP 64-65, 2015), the only one of their three that
-diagnosed this record. A check of whether DRS would rescue OR014 (docs/cwru.md), not part
+diagnosed this record. A check of whether DRS would rescue OR014 (docs/lab/cwru.md), not part
 of the product. Dev script: needs numpy, a release build and ../shared (the whole record).
 
-    cargo build --release && python3 scripts/drs_check.py
+    cargo build --release && python3 scripts/research/drs_check.py
 
 DRS as implemented: pairs of Hann-windowed segments of N samples, the second taken D = N +
 gap earlier (so the two never share a sample), pairs every N/3; the transfer function
@@ -25,7 +25,7 @@ import tempfile
 
 import numpy as np
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 EVAL = os.path.join(ROOT, "tests/fixtures/eval")
 SHARED = os.path.join(ROOT, "../shared/data/cwru")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
@@ -87,7 +87,7 @@ def verdict(path, sig, method):
     cmd = [BIN, "analyze", path, "--fs", str(sig["fs_hz"]), "--rpm", repr(sig["shaft_hz"] * 60),
            "--bearing", sig["bearing"]]
     if method == "kurtogram":
-        # as scripts/eval_report.py: 6 levels at 12 kHz
+        # as scripts/reports/eval_report.py: 6 levels at 12 kHz
         cmd += ["--kurtogram-levels", "6"]
     v = json.loads(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)["verdict"]
     p = {e["fault"]: e["p_value"] for e in v["evidence"]}

@@ -5,9 +5,9 @@ For each worker count: a fresh database on a throw-away PostgreSQL server (initd
 temporary directory, Unix socket only), one API node (`serve --workers 0`) and N
 `bearing-sim worker --workers 1` processes. The study is POSTed to the API node and
 polled until every point has finished; the wall time from the POST to the last point
-is the figure. Prints a Markdown table for docs/scale-out.md.
+is the figure. Prints a Markdown table for docs/reference/scale-out.md.
 
-Usage: cargo build --release && python3 scripts/scale_out_throughput.py [--workers 1,2,4]
+Usage: cargo build --release && python3 scripts/reports/scale_out_throughput.py [--workers 1,2,4]
        [--points 40] [--duration 0.1]
 Only the standard library; needs PostgreSQL's server programs (Debian: postgresql).
 """
@@ -25,7 +25,7 @@ import urllib.error
 import urllib.request
 import uuid
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BIN = os.path.join(ROOT, "target", "release", "bearing-sim")
 
 

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Run the fault verdict on the committed evaluation set (tests/fixtures/eval) with each
 band-selection method and print, as markdown, one row per signal and a confusion table per
-method (used for docs/cwru.md). Dev script only; needs a release build, no packages.
+method (used for docs/lab/cwru.md). Dev script only; needs a release build, no packages.
 
-    cargo build --release && python3 scripts/eval_report.py > /tmp/eval.md
+    cargo build --release && python3 scripts/reports/eval_report.py > /tmp/eval.md
 
 Methods: `dtcwt` = default options (the verdict reads the raw envelope spectrum and the two
 DTCWT components of largest kurtosis); `kurtogram` = `--kurtogram-levels L` (raw spectrum,
@@ -16,7 +16,7 @@ import os
 import subprocess
 import sys
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 EVAL = os.path.join(ROOT, "tests/fixtures/eval")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 TYPES = ["outer_race", "inner_race", "rolling_element", "cage"]

@@ -2,10 +2,10 @@
 """Cepstral pre-whitening (Sawalhi & Randall, 2011: the real cepstrum zeroed but for its
 zeroth quefrency, i.e. the spectrum's magnitude set to one and its phase kept) before the
 verdict, on the CWRU signals of the evaluation set and, when ../shared is there, on their
-whole recordings. A check of whether pre-whitening would rescue OR014 (docs/cwru.md), not
+whole recordings. A check of whether pre-whitening would rescue OR014 (docs/lab/cwru.md), not
 part of the product. Dev script: needs numpy and a release build.
 
-    cargo build --release && python3 scripts/cpw_check.py
+    cargo build --release && python3 scripts/research/cpw_check.py
 """
 import json
 import os
@@ -15,7 +15,7 @@ import tempfile
 import numpy as np
 from cwru_records import cwru_records
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 
 
