@@ -5,7 +5,7 @@ For each worker count: a fresh database on a throw-away PostgreSQL server (initd
 temporary directory, Unix socket only), one API node (`serve --workers 0`) and N
 `bearing-sim worker --workers 1` processes. The study is POSTed to the API node and
 polled until every point has finished; the wall time from the POST to the last point
-is the figure. Prints a Markdown table for docs/reference/scale-out.md.
+is the figure. Prints a Markdown table for docs/lab/benchmarks.md ("Scale-out").
 
 Usage: cargo build --release && python3 scripts/reports/scale_out_throughput.py [--workers 1,2,4]
        [--points 40] [--duration 0.1]
