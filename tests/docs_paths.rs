@@ -1,6 +1,6 @@
 //! Every engine item the docs name (`physics::hertz::exact`, `model::Model::new`, ...)
-//! exists at that path, so `docs/reference/model.md` keeps mapping the paper to real functions when
-//! code moves.
+//! exists at that path, so `docs/reference/model.md` keeps mapping the paper to real functions
+//! when code moves; and every relative link in `README.md` and `docs/**/*.md` resolves.
 
 use std::path::{Path, PathBuf};
 
@@ -135,4 +135,85 @@ fn docs_name_engine_items_that_exist() {
         "only {checked} paths found: is the scan still reading the docs?"
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// Every Markdown file whose relative links `relative_links_resolve` checks: the README and
+/// everything under `docs/`.
+fn markdown_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            markdown_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "md") {
+            out.push(path);
+        }
+    }
+}
+
+/// The targets of the inline links `[text](target)` and images in `text`, outside fenced
+/// code blocks, with the line each is on.
+fn link_targets(text: &str) -> Vec<(usize, String)> {
+    let mut out = Vec::new();
+    let mut fenced = false;
+    for (n, line) in text.lines().enumerate() {
+        if line.trim_start().starts_with("```") {
+            fenced = !fenced;
+            continue;
+        }
+        if fenced {
+            continue;
+        }
+        for piece in line.split("](").skip(1) {
+            if let Some(end) = piece.find(')') {
+                out.push((n + 1, piece[..end].to_string()));
+            }
+        }
+    }
+    out
+}
+
+/// A link left pointing at a moved or renamed file fails here rather than in a reader's
+/// browser.
+#[test]
+fn relative_links_resolve() {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = vec![base.join("README.md")];
+    markdown_files(&base.join("docs"), &mut files);
+    let (mut checked, mut broken) = (0, Vec::new());
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (line, target) in link_targets(&text) {
+            let path = target.split('#').next().unwrap_or("");
+            // external (scheme:), in-page (#...) and site-absolute links are not files here
+            if path.is_empty() || path.contains(':') || path.starts_with('/') {
+                continue;
+            }
+            checked += 1;
+            if !file.parent().unwrap().join(path).exists() {
+                let rel = file.strip_prefix(base).unwrap_or(file);
+                broken.push(format!(
+                    "{}:{line}: `{target}` does not exist",
+                    rel.display()
+                ));
+            }
+        }
+    }
+    assert!(
+        checked > 30,
+        "only {checked} links found: is the scan still reading the docs?"
+    );
+    assert!(broken.is_empty(), "{}", broken.join("\n"));
+}
+
+#[test]
+fn link_targets_skip_code_and_keep_anchors() {
+    let text =
+        "See [a](x.md#s) and ![b](img/p.png).\n```sh\ncurl [c](no.md)\n```\n[d](https://e.org)";
+    let got: Vec<(usize, String)> = link_targets(text);
+    let want = [(1, "x.md#s"), (1, "img/p.png"), (5, "https://e.org")];
+    assert_eq!(
+        got,
+        want.map(|(n, t)| (n, t.to_string())).to_vec(),
+        "targets with their lines"
+    );
 }

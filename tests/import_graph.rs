@@ -1,5 +1,6 @@
 //! Import-graph checks over the source files: no import cycles between files, and every
-//! dependency follows the layer order declared below. Standard library only: the parser
+//! dependency follows the layer order declared below, which the layer tables of
+//! docs/reference/architecture.md state too (checked). Standard library only: the parser
 //! blanks comments and literals, then reads `use` trees and inline paths (`crate::`,
 //! `super::`, `self::`, the library's extern name, and child modules declared with `mod x;`).
 //!
@@ -22,7 +23,9 @@ const CRATES: &[(&str, &str, Option<&str>)] = &[
 const ROOT: &str = "<root>";
 
 /// Intended layering of one crate, by top-level module (the first segment of a module path:
-/// `jobs` for `src/jobs/runner.rs`, [`ROOT`] for `lib.rs` and `main.rs`).
+/// `jobs` for `src/jobs/runner.rs`, [`ROOT`] for `lib.rs` and `main.rs`). The layer tables
+/// of [`LAYER_DOC`] state the same ranks and pairs; `doc_layer_table_matches_layers` fails
+/// when the two differ.
 ///
 /// Dependencies point down. A file in a module of rank `r` may use:
 /// - any file of its own top-level module;
@@ -180,6 +183,128 @@ fn layer_order_respected() {
         }
     }
     assert!(report.is_empty(), "\n{report}\nFix the import, or change the intended layering in LAYERS (tests/import_graph.rs).\n");
+}
+
+/// The page whose layer tables a reader sees. `doc_layer_table_matches_layers` keeps them
+/// equal to [`LAYERS`], so changing the layering means editing both.
+const LAYER_DOC: &str = "docs/reference/architecture.md";
+
+/// The layering as a set of statements, one per rank (`crate engine: json_float rank 0`)
+/// and per pair (`crate service: cli may not use api`), so a doc and `LAYERS` compare as sets.
+fn rank_line(krate: &str, module: &str, rank: u32) -> String {
+    format!("crate {krate}: {module} rank {rank}")
+}
+
+fn pair_line(krate: &str, from: &str, verb: &str, to: &str) -> String {
+    format!("crate {krate}: {from} {verb} {to}")
+}
+
+/// The statements of the tables under `## Layers` in `doc`. A rank table has the header
+/// `| crate | rank | module | ... |`; a pair table `| crate | module | may not use |`
+/// (`forbidden`) or `| crate | module | may also use |` (`allowed`). A module cell is its
+/// first word in backticks (`<root>` for the crate roots).
+fn doc_layers(doc: &str) -> BTreeSet<String> {
+    let start = doc
+        .find("\n## Layers\n")
+        .unwrap_or_else(|| panic!("{LAYER_DOC} has no `## Layers` section"));
+    let section = &doc[start + 1..];
+    let section = &section[..section[3..].find("\n## ").map_or(section.len(), |e| e + 3)];
+    let module = |cell: &str| cell.split('`').nth(1).unwrap_or(cell).to_string();
+    let mut out = BTreeSet::new();
+    let mut header: Vec<String> = Vec::new();
+    for line in section.lines().map(str::trim) {
+        if !line.starts_with('|') {
+            header.clear();
+            continue;
+        }
+        let cells: Vec<String> = line
+            .trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_string())
+            .collect();
+        let separator = cells.iter().all(|c| c.chars().all(|ch| "-: ".contains(ch)));
+        if header.is_empty() {
+            header = cells;
+            continue;
+        } else if separator {
+            continue;
+        }
+        match header
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .as_slice()
+        {
+            ["crate", "rank", "module", ..] => {
+                let rank = cells[1].parse().unwrap_or_else(|_| {
+                    panic!("{LAYER_DOC}: rank `{}` is not a number: {line}", cells[1])
+                });
+                out.insert(rank_line(&cells[0], &module(&cells[2]), rank));
+            }
+            ["crate", "module", verb @ ("may not use" | "may also use")] => {
+                out.insert(pair_line(
+                    &cells[0],
+                    &module(&cells[1]),
+                    verb,
+                    &module(&cells[2]),
+                ));
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn doc_layer_table_matches_layers() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(LAYER_DOC);
+    let doc = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let in_doc = doc_layers(&doc);
+    let mut in_layers = BTreeSet::new();
+    for l in LAYERS {
+        let k = l.krate;
+        in_layers.extend(l.ranks.iter().map(|&(m, r)| rank_line(k, m, r)));
+        in_layers.extend(
+            l.forbidden
+                .iter()
+                .map(|&(a, b)| pair_line(k, a, "may not use", b)),
+        );
+        in_layers.extend(
+            l.allowed
+                .iter()
+                .map(|&(a, b)| pair_line(k, a, "may also use", b)),
+        );
+    }
+    assert!(
+        in_layers.len() > 10,
+        "only {} statements from LAYERS: is the comparison still reading them?",
+        in_layers.len()
+    );
+    let mut report = String::new();
+    for s in in_layers.difference(&in_doc) {
+        let _ = writeln!(report, "in LAYERS, not in {LAYER_DOC}: {s}");
+    }
+    for s in in_doc.difference(&in_layers) {
+        let _ = writeln!(report, "in {LAYER_DOC}, not in LAYERS: {s}");
+    }
+    assert!(report.is_empty(), "\n{report}\nThe layer tables of {LAYER_DOC} and LAYERS (tests/import_graph.rs) must state the same layering: edit both.\n");
+}
+
+#[test]
+fn doc_layer_parser_reads_tables() {
+    let doc = "# A\n\n## Layers\n\nText.\n\n\
+        | crate | rank | module | what |\n| --- | --- | --- | --- |\n\
+        | engine | 0 | `a` | x |\n| engine | 10 | `<root>` | `lib.rs` |\n\n\
+        | crate | module | may not use |\n| --- | --- | --- |\n| service | `cli` | `api` |\n\n\
+        ## Next\n\n| crate | rank | module | what |\n| --- | --- | --- | --- |\n\
+        | engine | 5 | `outside` | x |\n";
+    let want = BTreeSet::from([
+        rank_line("engine", "a", 0),
+        rank_line("engine", ROOT, 10),
+        pair_line("service", "cli", "may not use", "api"),
+    ]);
+    assert_eq!(doc_layers(doc), want);
 }
 
 // ---------------------------------------------------------------- file graph
