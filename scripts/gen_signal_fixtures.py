@@ -8,10 +8,10 @@ Only needed when a fixture changes; building, running and testing never need Pyt
 
 Writes
   crates/bearing-core/src/signal/dtcwt/filters.json         filter sets usable by the 1-D transform (float64)
-  tests/fixtures/dtcwt/<case>/          golden DTCWT data, raw little-endian float64:
+  crates/bearing-core/tests/fixtures/dtcwt/<case>/   golden DTCWT data, raw little-endian float64:
       input.f64, coeffs_level<k>.f64 (re, im interleaved), lowpass.f64,
       component_level<k>.f64, component_lowpass.f64, summary.json
-  tests/fixtures/cwru/<id>.f32le        short excerpts of two CWRU 12 kHz recordings
+  crates/bearing-core/tests/fixtures/cwru/<id>.f32le short excerpts of two CWRU 12 kHz recordings
 """
 import json
 import os
@@ -66,7 +66,7 @@ def golden_case(name, x, levels, biort="near_sym_b", qshift="qshift_b", check_di
     low = t.inverse(dtcwt.Pyramid(p.lowpass, [np.zeros_like(h) for h in p.highpasses]))[:n]
     err = np.max(np.abs(sum(comps) + low - x))
     assert err < 1e-13, err
-    d = os.path.join(ROOT, "tests/fixtures/dtcwt", name)
+    d = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/dtcwt", name)
     os.makedirs(d, exist_ok=True)
     np.asarray(x, "<f8").tofile(os.path.join(d, "input.f64"))
     for k, h in enumerate(p.highpasses):
@@ -105,7 +105,7 @@ def write_goldens():
 
 def write_cwru_excerpts():
     man = json.load(open(os.path.join(SHARED, "data/cwru/manifest.json")))
-    d = os.path.join(ROOT, "tests/fixtures/cwru")
+    d = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/cwru")
     os.makedirs(d, exist_ok=True)
     meta = {}
     for rid in ("cwru_ir007_0hp_12k_de", "cwru_or007c_0hp_12k_de"):

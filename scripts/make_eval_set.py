@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Build the diagnosis evaluation set in tests/fixtures/eval/ (dev script; its outputs are
-committed, building and testing never run it).
+"""Build the diagnosis evaluation set in crates/bearing-core/tests/fixtures/eval/ (dev
+script; its outputs are committed, building and testing never run it).
 
     cargo build --release
     python3 scripts/make_eval_set.py ../shared/data/cwru
@@ -29,7 +29,7 @@ import sys
 import tempfile
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
-OUT = os.path.join(ROOT, "tests/fixtures/eval")
+OUT = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/eval")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 EXCERPT_S = 2.0
 TRUTH = {"normal": [], "inner_race": ["inner_race"], "outer_race": ["outer_race"], "ball": ["ball"]}
