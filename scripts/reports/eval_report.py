@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Run the fault verdict on the committed evaluation set (tests/fixtures/eval) with each
+"""Run the fault verdict on the committed evaluation set (crates/bearing-core/tests/fixtures/eval) with each
 band-selection method and print, as markdown, one row per signal and a confusion table per
 method (used for docs/lab/cwru.md). Dev script only; needs a release build, no packages.
 
@@ -17,7 +17,7 @@ import subprocess
 import sys
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-EVAL = os.path.join(ROOT, "tests/fixtures/eval")
+EVAL = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/eval")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 TYPES = ["outer_race", "inner_race", "rolling_element", "cage"]
 TRUTH = {"outer_race": "outer_race", "inner_race": "inner_race", "ball": "rolling_element"}

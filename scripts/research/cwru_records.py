@@ -7,7 +7,7 @@ import os
 import numpy as np
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-EVAL = os.path.join(ROOT, "tests/fixtures/eval")
+EVAL = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/eval")
 SHARED = os.path.join(ROOT, "../shared/data/cwru")
 
 

@@ -26,7 +26,7 @@ import tempfile
 import numpy as np
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-EVAL = os.path.join(ROOT, "tests/fixtures/eval")
+EVAL = os.path.join(ROOT, "crates/bearing-core/tests/fixtures/eval")
 SHARED = os.path.join(ROOT, "../shared/data/cwru")
 BIN = os.environ.get("BEARING_SIM", os.path.join(ROOT, "target/release/bearing-sim"))
 ID = "cwru_or014c_0hp_12k_de"

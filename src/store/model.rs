@@ -152,10 +152,10 @@ pub struct Job {
 /// writes and can run. Workers claim only jobs whose format is at most theirs, so when
 /// several worker machines share one database during an upgrade, an older worker leaves a
 /// newer job queued for a newer worker instead of failing it as unparsable. Bump it when a
-/// stored input gains a field or a value an older binary would refuse. `tests/input_format.rs`
-/// fails until you do for a change of the inputs' schemas; it does not see a loosened
-/// validation bound, a change of the analysis request's sample or shaft rate, or of the
-/// signal blob's encoding (bump for those by hand). Format 1 is every input stored before
+/// stored input gains a field or a value an older binary would refuse.
+/// `tests/checks/input_format.rs` fails until you do for a change of the inputs' schemas;
+/// it does not see a loosened validation bound, a change of the analysis request's sample
+/// or shaft rate, or of the signal blob's encoding (bump for those by hand). Format 1 is every input stored before
 /// the column existed.
 pub const INPUT_FORMAT: i64 = 1;
 

@@ -22,7 +22,7 @@ from playwright.sync_api import expect, sync_playwright
 ROOT = Path(__file__).resolve().parents[2]
 BINARY = ROOT / "target" / "release" / "bearing-sim"
 CHROMIUM = os.environ.get("BEARING_SIM_CHROMIUM", "/usr/bin/chromium")
-CWRU_IR = ROOT / "tests" / "fixtures" / "cwru" / "cwru_ir007_0hp_12k_de.f32le"
+CWRU_IR = ROOT / "crates" / "bearing-core" / "tests" / "fixtures" / "cwru" / "cwru_ir007_0hp_12k_de.f32le"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--disable-sync", "--disable-quic", "--no-first-run"]
 

@@ -22,8 +22,8 @@
 //! - [`simulation_analysis`]: the glue that analyses a simulated signal (above both).
 //! - [`study`]: parameter studies (the paper's Figures 23-28): designs as data, a point run
 //!   and read into a table row.
-//! - [`stress`]: the stability stress suite: extreme scenes and the invariants their runs
-//!   keep (or the field their refusal names).
+//! - `stress` (feature `stress`, off by default): the stability stress suite: extreme scenes
+//!   and the invariants their runs keep (or the field their refusal names).
 
 pub mod dynamics;
 pub mod json_float;
@@ -34,5 +34,6 @@ pub mod scene;
 pub mod signal;
 pub mod simulation;
 pub mod simulation_analysis;
+#[cfg(feature = "stress")]
 pub mod stress;
 pub mod study;

@@ -3,7 +3,7 @@
 //! must keep. Each scene either runs with [`check`] and [`check_cost`] finding nothing, or
 //! is refused before it runs ([`prepare`]) with an error naming a field and its limit.
 //!
-//! `tests/engine_stress.rs` runs every scene for a few milliseconds; `bearing-sim bench
+//! `crates/bearing-core/tests/engine_stress.rs` runs every scene for a few milliseconds; `bearing-sim bench
 //! stress` runs them longer and prints a table.
 
 use crate::scene::{
@@ -585,7 +585,7 @@ impl fmt::Display for Violation {
 }
 
 /// The reaction balance is held to 1 % of the applied load (the figure; the
-/// steady-run fidelity test in `tests/engine_dynamics.rs` uses the same), but never to less
+/// steady-run fidelity test in `crates/bearing-core/tests/engine_dynamics.rs` uses the same), but never to less
 /// than this, N: the window average of the reaction also carries the inner ring's momentum
 /// change over the window, `m dv / T`, whatever the load. Measured at 1 N axial (15 ms
 /// window): the reaction is 0.0108 N short, and `m dv / T` from the displacement channel

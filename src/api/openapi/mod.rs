@@ -1,7 +1,7 @@
 //! The OpenAPI document, generated from the handlers' `#[utoipa::path]` annotations and the
 //! types they read and write. `openapi.yaml` in the repository is its committed output
-//! (`BEARING_SIM_UPDATE_OPENAPI=1 cargo test --test openapi` writes it); that test fails
-//! when the two differ.
+//! (`BEARING_SIM_UPDATE_OPENAPI=1 cargo test --test checks openapi` writes it); that test
+//! fails when the two differ.
 
 pub mod params;
 pub mod responses;

@@ -2,7 +2,7 @@
 //!
 //! Written for this crate and checked against the Python `dtcwt` 0.14 package
 //! (`Transform1d`, the reference implementation) by the golden fixtures in
-//! `tests/fixtures/dtcwt/` (see `scripts/fixtures/gen_signal_fixtures.py`). Defaults: `near_sym_b`
+//! `crates/bearing-core/tests/fixtures/dtcwt/` (see `scripts/fixtures/gen_signal_fixtures.py`). Defaults: `near_sym_b`
 //! at level 1, `qshift_b` for deeper levels.
 //!
 //! Level `k` (1-based) of a signal sampled at `fs` covers roughly `fs / 2^(k+1) .. fs / 2^k`.

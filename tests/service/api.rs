@@ -1,8 +1,6 @@
 //! HTTP API behaviour against the real server binary.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::time::Duration;
 

@@ -1,10 +1,8 @@
 //! Several machines on one PostgreSQL database, as processes: an API node that runs no
 //! jobs (`serve --workers 0`) and `bearing-sim worker` processes. The server is the
-//! suite's throw-away PostgreSQL (tests/common/postgres.rs).
+//! suite's throw-away PostgreSQL (tests/service/common/postgres.rs).
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::Value;
 use sqlx::Connection;
 use std::collections::HashMap;

@@ -112,7 +112,7 @@ fn input_format_is_bumped_with_the_stored_input_schemas() {
         now == recorded,
         "the stored job inputs' schemas ({}) changed under INPUT_FORMAT = {INPUT_FORMAT}:\n\
          set INPUT_FORMAT = {} in src/store/model.rs and append ({}, \"{now}\") to\n\
-         FINGERPRINTS in tests/input_format.rs. Bump it for every change, even one an older\n\
+         FINGERPRINTS in tests/checks/input_format.rs. Bump it for every change, even one an older\n\
          binary would accept: a bump only keeps new jobs away from older workers, which is safe.",
         ROOTS.join(", "),
         INPUT_FORMAT + 1,

@@ -1,15 +1,6 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the engine's integration tests: synthetic signals and the committed
+//! recordings in `tests/fixtures/`.
 #![allow(dead_code)]
-
-mod app;
-mod postgres;
-mod server;
-#[allow(unused_imports)]
-pub use app::TestApp;
-#[allow(unused_imports)]
-pub use postgres::{pg_cluster, PgCluster};
-#[allow(unused_imports)]
-pub use server::*;
 
 use std::f64::consts::PI;
 

@@ -1,8 +1,6 @@
 //! Simulations end to end through the service (needs the real engine).
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::json;
 use std::time::{Duration, Instant};
 

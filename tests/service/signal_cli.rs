@@ -8,7 +8,7 @@ fn bin() -> Command {
 
 const OR007: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
-    "/tests/fixtures/cwru/cwru_or007c_0hp_12k_de.f32le"
+    "/crates/bearing-core/tests/fixtures/cwru/cwru_or007c_0hp_12k_de.f32le"
 );
 
 /// `analyze FILE --fs FS --rpm 1796 --bearing BEARING` (the CWRU 12 kHz drive-end records

@@ -1,7 +1,7 @@
 //! `openapi.yaml` is the committed output of the document the code generates: a hand
 //! edit, or a handler or type change not regenerated, fails here.
 //!
-//! Regenerate with `BEARING_SIM_UPDATE_OPENAPI=1 cargo test --release --test openapi`.
+//! Regenerate with `BEARING_SIM_UPDATE_OPENAPI=1 cargo test --release --test checks openapi`.
 
 use std::path::Path;
 
@@ -23,7 +23,7 @@ fn committed_openapi_yaml_is_the_generated_document() {
         panic!(
             "openapi.yaml differs from the document the code generates, first at line {}:\n  committed: {:?}\n  generated: {:?}\n\
              Edit the handlers' #[utoipa::path] annotations or the types, then regenerate:\n  \
-             BEARING_SIM_UPDATE_OPENAPI=1 cargo test --release --test openapi",
+             BEARING_SIM_UPDATE_OPENAPI=1 cargo test --release --test checks openapi",
             line + 1,
             committed.lines().nth(line).unwrap_or("<end of file>"),
             generated.lines().nth(line).unwrap_or("<end of file>"),

@@ -1,9 +1,7 @@
 //! Crash safety: a server killed mid-run (SIGKILL) loses nothing; after a restart on
 //! the same database the job's expired lease requeues it and it completes.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::time::Duration;
 
 #[tokio::test]

@@ -1,9 +1,8 @@
 //! The store's contract: one suite, run against both backends (SQLite in a temporary
-//! file, PostgreSQL in a throw-away server started by the suite, tests/common/postgres.rs).
+//! file, PostgreSQL in a throw-away server started by the suite, tests/service/common/postgres.rs).
 //! Every test takes a fresh, empty store.
 
-mod common;
-
+use crate::common;
 use bearing_sim::store::{self, *};
 use serde_json::json;
 use std::sync::Arc;

@@ -4,7 +4,7 @@
 //! blanks comments and literals, then reads `use` trees and inline paths (`crate::`,
 //! `super::`, `self::`, the library's extern name, and child modules declared with `mod x;`).
 //!
-//! Run alone: `cargo test --test import_graph -- --nocapture`.
+//! Run alone: `cargo test --test checks import_graph -- --nocapture`.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap, VecDeque};
 use std::fmt::Write as _;
@@ -145,7 +145,7 @@ fn layer_order_respected() {
     for &(name, root, lib) in CRATES {
         let layers = LAYERS.iter().find(|l| l.krate == name);
         let layers = layers.unwrap_or_else(|| {
-            panic!("crate `{name}` has no entry in LAYERS (tests/import_graph.rs); add one")
+            panic!("crate `{name}` has no entry in LAYERS (tests/checks/import_graph.rs); add one")
         });
         let g = load(name, root, lib);
         let rank = |m: &str| layers.ranks.iter().find(|r| r.0 == m).map(|r| r.1);
@@ -182,7 +182,7 @@ fn layer_order_respected() {
             );
         }
     }
-    assert!(report.is_empty(), "\n{report}\nFix the import, or change the intended layering in LAYERS (tests/import_graph.rs).\n");
+    assert!(report.is_empty(), "\n{report}\nFix the import, or change the intended layering in LAYERS (tests/checks/import_graph.rs).\n");
 }
 
 /// The page whose layer tables a reader sees. `doc_layer_table_matches_layers` keeps them
@@ -288,7 +288,7 @@ fn doc_layer_table_matches_layers() {
     for s in in_doc.difference(&in_layers) {
         let _ = writeln!(report, "in {LAYER_DOC}, not in LAYERS: {s}");
     }
-    assert!(report.is_empty(), "\n{report}\nThe layer tables of {LAYER_DOC} and LAYERS (tests/import_graph.rs) must state the same layering: edit both.\n");
+    assert!(report.is_empty(), "\n{report}\nThe layer tables of {LAYER_DOC} and LAYERS (tests/checks/import_graph.rs) must state the same layering: edit both.\n");
 }
 
 #[test]
@@ -354,7 +354,7 @@ impl Graph {
 fn load(name: &str, root: &str, lib_name: Option<&str>) -> Graph {
     let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let dir = manifest.join(root);
-    assert!(dir.is_dir(), "crate `{name}`: source root `{root}` ({}) does not exist; fix CRATES in tests/import_graph.rs", dir.display());
+    assert!(dir.is_dir(), "crate `{name}`: source root `{root}` ({}) does not exist; fix CRATES in tests/checks/import_graph.rs", dir.display());
     let mut paths = Vec::new();
     rs_files(&dir, &mut paths);
 

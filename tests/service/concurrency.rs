@@ -1,9 +1,7 @@
 //! 50 concurrent clients submit 200 short jobs: every job completes exactly once and
 //! running jobs never exceed the worker count.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::Value;
 use std::collections::HashSet;
 use std::time::{Duration, Instant};

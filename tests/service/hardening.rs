@@ -1,9 +1,7 @@
 //! Issue 12's attacks, each reproduced against the service and shown to fail: orphaned
 //! direct work, scenes over the cost budget, jobs over the wall-clock budget.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::net::TcpStream;

@@ -1,9 +1,7 @@
 //! Parameter studies over HTTP: a small study runs to success with its table and plots,
 //! identical points run once, a cancelled study cancels its points, bad points are named.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use serde_json::{json, Value};
 use std::time::Duration;
 
