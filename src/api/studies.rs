@@ -30,7 +30,8 @@ use bearing_core::study::{plan, to_csv, StudyRequest, StudyTable, StudyTableRow}
 /// `overrides`) and a `design`: a `grid` or `one_at_a_time` design over scene fields named
 /// by JSON pointer, optionally repeated per fault case, or a `named` design shipped with
 /// the service (`paper-trends`: Figures 23-28; `table2`: the paper's nine compound-fault
-/// sizes). Every point is validated before anything is queued; a problem names the point
+/// sizes; `sensitivity`: the trends' end points under lubricant variants), optionally
+/// under lubricant `variants`. Every point is validated before anything is queued; a problem names the point
 /// (`points[3].scene.operating.axial_load`). Each point runs as a simulation job; points
 /// with identical scenes, in this study or in earlier ones still queued, running or
 /// succeeded, share one job.
