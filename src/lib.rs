@@ -1,11 +1,11 @@
 //! bearing-sim: the HTTP service and command line around the `bearing_core` engine.
 //!
 //! Layers, each importing only from those above it in this list:
-//! - [`json_doc`]: merge patches and JSON-pointer assignments on request documents.
 //! - [`store`]: durable jobs and their outputs behind the [`store::Store`] trait (SQLite).
 //! - [`config`], [`metrics`]: service settings and Prometheus counters.
 //! - [`plots`]: SVG charts of engine results (plotters' SVG backend).
-//! - [`studies`]: study designs expanded into points, their table and plots.
+//! - [`studies`]: what the service adds to the engine's studies (`bearing_core::study`):
+//!   the key identical points share a run by, and the study's plots.
 //! - [`jobs`]: workers that claim jobs, run the engine, and store typed records.
 //! - [`api`]: the axum router, request parsing and problem+json errors.
 //! - [`serve`]: a running service (store + workers + router) on a listener.
@@ -17,7 +17,6 @@ pub mod api;
 pub mod cli;
 pub mod config;
 pub mod jobs;
-pub mod json_doc;
 pub mod metrics;
 pub mod plots;
 pub mod serve;

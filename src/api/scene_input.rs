@@ -3,7 +3,7 @@
 
 use super::extract::{from_value, kind_of};
 use super::problem::{FieldProblem, Problem};
-use crate::json_doc::merge_patch;
+use bearing_core::json_doc::merge_patch;
 use bearing_core::scene::{fault_case_scene, preset_names, FaultCase, Scene, ValidScene};
 use serde::Deserialize;
 use serde_json::{Map, Value};

@@ -16,12 +16,13 @@ use crate::store::{
     ArtifactMeta, JobKind, NewJob, NewStudy, NewStudyPoint, StoreError, Study, INPUT_FORMAT,
 };
 use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
-use crate::studies::{plan, to_csv, StudyRequest, StudyTable};
+use crate::studies::scene_key;
 use axum::body::Bytes;
 use axum::extract::{Path, RawQuery, State};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use bearing_core::study::{plan, to_csv, StudyRequest, StudyTable, StudyTableRow};
 
 /// Queue a parameter study
 ///
@@ -29,7 +30,8 @@ use axum::Json;
 /// `overrides`) and a `design`: a `grid` or `one_at_a_time` design over scene fields named
 /// by JSON pointer, optionally repeated per fault case, or a `named` design shipped with
 /// the service (`paper-trends`: Figures 23-28; `table2`: the paper's nine compound-fault
-/// sizes). Every point is validated before anything is queued; a problem names the point
+/// sizes; `sensitivity`: the trends' end points under lubricant variants), optionally
+/// under lubricant `variants`. Every point is validated before anything is queued; a problem names the point
 /// (`points[3].scene.operating.axial_load`). Each point runs as a simulation job; points
 /// with identical scenes, in this study or in earlier ones still queued, running or
 /// succeeded, share one job.
@@ -87,10 +89,11 @@ pub async fn submit(
                 })
                 .collect::<Vec<_>>()
         })?;
-        let mut seen = std::collections::HashMap::new();
+        let keys: Vec<String> = plan.points.iter().map(|p| scene_key(&p.scene)).collect();
+        let mut seen = std::collections::HashSet::new();
         let mut problems = Vec::new();
-        for (i, p) in plan.points.iter().enumerate() {
-            if seen.contains_key(&p.key) {
+        for (i, (p, key)) in plan.points.iter().zip(&keys).enumerate() {
+            if !seen.insert(key) {
                 continue;
             }
             problems.extend(super::budget::over_budget(
@@ -104,13 +107,12 @@ pub async fn submit(
                     message: f.message,
                 }));
             }
-            seen.insert(&p.key, i);
             if problems.len() > 50 {
                 break;
             }
         }
         if problems.is_empty() {
-            Ok(plan)
+            Ok((plan, keys))
         } else {
             Err(problems)
         }
@@ -120,9 +122,10 @@ pub async fn submit(
     .map_err(Problem::validation)?;
 
     let id = uuid::Uuid::now_v7().to_string();
+    let (plan, keys) = plan;
     let n = plan.points.len();
     let mut points = Vec::with_capacity(n);
-    for (i, p) in plan.points.iter().enumerate() {
+    for (i, (p, key)) in plan.points.iter().zip(keys).enumerate() {
         let input = serde_json::to_value(&p.scene).map_err(|e| Problem::internal(e.to_string()))?;
         points.push(NewStudyPoint {
             spec: serde_json::to_value(&p.spec).map_err(|e| Problem::internal(e.to_string()))?,
@@ -134,10 +137,10 @@ pub async fn submit(
                 input,
                 input_blob: None,
                 idempotency_key: None,
-                request_hash: p.key.clone(),
+                request_hash: key.clone(),
                 input_format: INPUT_FORMAT,
             },
-            scene_key: p.key.clone(),
+            scene_key: key,
         });
     }
     let created = state
@@ -405,7 +408,7 @@ pub async fn plot(
             }
         }
     }
-    let mut lookup = |r: &crate::studies::StudyTableRow| spectra.remove(&r.index);
+    let mut lookup = |r: &StudyTableRow| spectra.remove(&r.index);
     let svg = match draw(&study.label, &design, &rows, &name, &mut lookup) {
         None => {
             return Err(Problem::not_found(format!(

@@ -7,7 +7,7 @@ use super::submission::Fnv1a;
 use crate::jobs::record::SimulationRecord;
 use crate::store::{JobError, JobState, Study, StudyPointRow};
 use crate::studies::charts::plot_names;
-use crate::studies::{DesignSummary, PointSpec, RunDigest, StudyTableRow};
+use bearing_core::study::{DesignSummary, PointSpec, PointState, RunDigest, StudyTableRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use utoipa::ToSchema;
@@ -250,6 +250,17 @@ pub fn digest(p: &StudyPointRow) -> Result<RunDigest, String> {
     })
 }
 
+/// A point's state is its job's.
+fn point_state(s: JobState) -> PointState {
+    match s {
+        JobState::Queued => PointState::Queued,
+        JobState::Running => PointState::Running,
+        JobState::Succeeded => PointState::Succeeded,
+        JobState::Failed => PointState::Failed,
+        JobState::Cancelled => PointState::Cancelled,
+    }
+}
+
 /// The table rows of a study, in point order.
 pub fn rows(study: &Study) -> ApiResult<Vec<StudyTableRow>> {
     study
@@ -274,7 +285,7 @@ pub fn rows(study: &Study) -> ApiResult<Vec<StudyTableRow>> {
                 p.index,
                 &spec,
                 Some(p.job.id.clone()),
-                p.job.state,
+                point_state(p.job.state),
                 err,
                 d.as_ref(),
             ))

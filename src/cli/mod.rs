@@ -13,7 +13,6 @@ pub mod scene_arg;
 pub mod scene_cmd;
 pub mod serve_cmd;
 pub mod study;
-mod study_plan;
 mod token_cmd;
 mod worker_cmd;
 

@@ -1,35 +1,47 @@
-//! `bearing-sim study DESIGN --out DIR`: run a parameter study locally and write its table
-//! (CSV and JSON) and plots (SVG).
+//! `bearing-sim study DESIGN --out DIR`: run a parameter study in-process and write its
+//! table (CSV and JSON, as `GET /v1/studies/{id}/table` gives them) and plots (SVG, as
+//! `/v1/studies/{id}/plots/{name}`).
 //!
-//! Designs: `paper-trends` (Figures 23-28: speed, axial and radial load for single inner
-//! and outer faults) and `sensitivity` (each trend's end points under every lubricant
-//! variant) on the H7005C scene with the lubricant variants of `docs/lab/paper-trends.md`;
-//! `table2` (the paper's nine compound-fault sizes) and `request` (any `POST /v1/studies`
-//! body), and `paper-trends` with `--base`, run as the service runs studies
-//! ([`super::study_plan`]). Identical scenes are run once.
+//! Every design is a study request (`bearing_core::study`): `paper-trends` (Figures 23-28),
+//! `sensitivity` (each trend's end points under lubricant variants) and `table2` (the
+//! paper's nine compound-fault sizes) are its named designs on the H7005C preset or
+//! `--base`; `request` is any `POST /v1/studies` body. One plan, one runner: identical
+//! scenes run once, `--workers` at a time.
 
 use super::result::CliResult;
-use super::study_plan::{named_request, read_request, run_request};
-use crate::plots::{trend_svg, TrendSeries};
-use crate::studies::NamedDesign;
-use bearing_core::scene::FaultCase;
+use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
+use crate::studies::scene_key;
+use bearing_core::json_doc::merge_patch;
+use bearing_core::scene::ValidScene;
+use bearing_core::signal::analysis::AnalysisOptions;
+use bearing_core::simulation::{simulate, RunControl};
+use bearing_core::simulation_analysis::analyze_simulation;
 use bearing_core::study::{
-    lubricant_variants, paper_trends, run_point, sensitivity, Factor, StudyPoint, StudyRow,
+    plan, to_csv, DesignSpec, LineReading, NamedDesign, Plan, PointState, RunDigest, StudyBase,
+    StudyRequest, StudyTable, StudyTableRow,
 };
 use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
 use std::collections::HashMap;
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
-use std::time::Duration;
+use std::time::{Duration, Instant};
+
+/// Channels tried for the analysis, in order (as the service's simulation jobs do).
+const CHANNELS: [&str; 2] = ["outer_ring_accel_z", "outer_ring_accel_y"];
+
+/// Simulated time per point of the trend designs on the preset, s: 0.3 s at constant
+/// speed leaves a 0.225 s window (4.4 Hz bins) after the settling quarter.
+const TREND_DURATION: f64 = 0.3;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug)]
 pub enum Design {
-    /// Figures 23-28 with one lubricant variant.
+    /// Figures 23-28: speed, axial and radial load lines for single inner and outer faults.
     PaperTrends,
-    /// Each trend's end points (outer fault) under every lubricant variant.
+    /// Each trend's end points (outer fault) under every lubricant variant given.
     Sensitivity,
-    /// Table 2: the nine compound-fault sizes (on `--base`, default the H7005C preset).
+    /// Table 2: the nine compound-fault sizes.
     Table2,
     /// The study request in `--request FILE` (a `POST /v1/studies` body).
     Request,
@@ -38,15 +50,16 @@ pub enum Design {
 #[derive(clap::Args, Debug)]
 pub struct StudyArgs {
     pub design: Design,
-    /// Simulated time per point for `paper-trends` and `sensitivity` without `--base`, s
-    /// (the other designs take the base scene's duration) (constant speed; the first quarter, at most 0.1 s,
-    /// settles and is left out of the averages and spectra).
-    #[arg(long, default_value_t = 0.3)]
-    pub duration: f64,
-    /// Lubricant variant for `paper-trends`: paper, drag, rolling, drag+rolling,
-    /// drag5+rolling.
-    #[arg(long, default_value = "paper")]
-    pub lubricant: String,
+    /// Simulated time per point, s. Default: 0.3 for `paper-trends` and `sensitivity`
+    /// without `--base`, else the base scene's (constant speed: the first quarter, at most
+    /// 0.1 s, settles and is left out of the averages and spectra).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Lubricant variant for `paper-trends` and `table2` (docs/lab/paper-trends.md): paper,
+    /// drag, rolling, drag+rolling, drag5+rolling, film, film+drag+rolling, film-G0.3, ...
+    /// Default: the base scene's lubricant.
+    #[arg(long)]
+    pub lubricant: Option<String>,
     /// Lubricant variants for `sensitivity` (default: all).
     #[arg(long, value_delimiter = ',')]
     pub variants: Vec<String>,
@@ -57,9 +70,8 @@ pub struct StudyArgs {
     /// Points run at once (one thread each).
     #[arg(long, default_value_t = 2)]
     pub workers: usize,
-    /// Base scene for `table2` and `paper-trends`, as a JSON file: `{"preset": "h7005c",
-    /// "fault_case": ..., "overrides": {...}}` or `{"scene": {...}}`. With it,
-    /// `paper-trends` runs the service's design on that base (the lubricant is the base's).
+    /// Base scene of a named design, as a JSON file: `{"preset": "h7005c", "fault_case":
+    /// ..., "overrides": {...}}` or `{"scene": {...}}` (default: the H7005C preset).
     #[arg(long)]
     pub base: Option<std::path::PathBuf>,
     /// Study request file for the `request` design.
@@ -79,297 +91,347 @@ pub fn main(args: StudyArgs) -> CliResult {
         .into());
     }
     let budget = (args.point_budget > 0.0).then(|| Duration::from_secs_f64(args.point_budget));
-    let request = match (args.design, &args.base) {
-        (Design::Table2, base) => Some(named_request(NamedDesign::Table2, base.as_deref())?),
-        (Design::PaperTrends, Some(base)) => {
-            Some(named_request(NamedDesign::PaperTrends, Some(base))?)
-        }
-        (Design::Request, _) => {
+    let req = request_of(&args)?;
+    let plan = plan(&req).map_err(|ps| {
+        let lines: Vec<String> = ps
+            .iter()
+            .map(|p| format!("  {}: {}", p.path, p.message))
+            .collect();
+        format!("the study is invalid:\n{}", lines.join("\n"))
+    })?;
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("--out {}: {e}", args.out.display()))?;
+    let started = Instant::now();
+    let ran = run_plan(&plan, args.workers.max(1), budget);
+    let elapsed = started.elapsed().as_secs_f64();
+    let table = table_of(&plan, &ran);
+    write_outputs(&args.out, &plan, &table, &ran)?;
+    print_summary(&table, elapsed, ran.distinct());
+    Ok(())
+}
+
+/// The study request the arguments describe.
+fn request_of(args: &StudyArgs) -> Result<StudyRequest, String> {
+    let named = match args.design {
+        Design::Request => {
+            if args.base.is_some()
+                || args.lubricant.is_some()
+                || !args.variants.is_empty()
+                || args.duration.is_some()
+            {
+                return Err("a --request file carries its own base and design: give none of --base, --lubricant, --variants, --duration".into());
+            }
             let path = args
                 .request
                 .as_deref()
                 .ok_or("the request design needs --request FILE")?;
-            Some(read_request(path)?)
+            return read_request(path);
         }
-        _ => None,
+        Design::PaperTrends => NamedDesign::PaperTrends,
+        Design::Sensitivity => NamedDesign::Sensitivity,
+        Design::Table2 => NamedDesign::Table2,
     };
-    if let Some(req) = request {
-        return run_request(&req, args.workers, budget, &args.out);
+    let variants = match (named, &args.lubricant) {
+        (NamedDesign::Sensitivity, Some(_)) => {
+            return Err("sensitivity takes --variants, not --lubricant".into())
+        }
+        (NamedDesign::Sensitivity, None) => args.variants.clone(),
+        (_, lubricant) if args.variants.is_empty() => lubricant.iter().cloned().collect(),
+        _ => {
+            return Err(format!(
+                "{} takes --lubricant, not --variants",
+                named.name()
+            ))
+        }
+    };
+    let mut base = match &args.base {
+        Some(p) => read_base(p)?,
+        None => StudyBase {
+            preset: Some("h7005c".into()),
+            ..Default::default()
+        },
+    };
+    let trend = matches!(named, NamedDesign::PaperTrends | NamedDesign::Sensitivity);
+    let duration = match args.duration {
+        Some(d) if !(d > 0.0 && d.is_finite()) => {
+            return Err(format!(
+                "--duration {d}: must be a positive number of seconds"
+            ))
+        }
+        Some(d) => Some(d),
+        None if trend && args.base.is_none() => Some(TREND_DURATION),
+        None => None,
+    };
+    if let Some(d) = duration {
+        // a patch over the preset's overrides, or over the inline scene
+        let patch = json!({"solver": {"duration": d}});
+        match &mut base.scene {
+            Some(scene) => merge_patch(scene, &patch),
+            None => merge_patch(base.overrides.get_or_insert_with(|| json!({})), &patch),
+        }
     }
-    let catalogue = lubricant_variants();
-    let find = |name: &str| {
-        catalogue
-            .iter()
-            .find(|v| v.name == name)
-            .cloned()
-            .ok_or_else(|| {
-                let names: Vec<&str> = catalogue.iter().map(|v| v.name.as_str()).collect();
-                format!(
-                    "lubricant variant '{name}': expected one of {}",
-                    names.join(", ")
-                )
-            })
-    };
-    if !(args.duration > 0.0 && args.duration.is_finite()) {
-        return Err(format!(
-            "--duration {}: must be a positive number of seconds",
-            args.duration
+    Ok(StudyRequest {
+        name: None,
+        base,
+        design: DesignSpec::Named {
+            name: named,
+            variants,
+        },
+    })
+}
+
+fn read_base(p: &Path) -> Result<StudyBase, String> {
+    let text = std::fs::read_to_string(p).map_err(|e| format!("--base {}: {e}", p.display()))?;
+    serde_json::from_str(&text).map_err(|e| {
+        format!(
+            "--base {}: {e} (expected {{\"preset\": ..., \"fault_case\": ..., \"overrides\": ...}} or {{\"scene\": ...}})",
+            p.display()
         )
-        .into());
+    })
+}
+
+fn read_request(path: &Path) -> Result<StudyRequest, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// What the run of one distinct scene gave.
+struct Ran {
+    digest: Result<RunDigest, String>,
+    /// The best component's envelope spectrum, for the spectra grid.
+    spectrum: Option<PointSpectrum>,
+}
+
+/// The runs of a plan's distinct scenes, and which run each point reads.
+struct PlanRuns {
+    runs: Vec<Ran>,
+    /// `slot[i]`: the run of point `i`.
+    slot: Vec<usize>,
+}
+
+impl PlanRuns {
+    fn of_point(&self, i: usize) -> &Ran {
+        &self.runs[self.slot[i]]
     }
-    let points = match args.design {
-        Design::PaperTrends => paper_trends(&find(&args.lubricant)?, args.duration),
-        Design::Table2 | Design::Request => unreachable!("run as study requests above"),
-        Design::Sensitivity => {
-            let variants = if args.variants.is_empty() {
-                catalogue.clone()
-            } else {
-                args.variants
-                    .iter()
-                    .map(|n| find(n))
-                    .collect::<Result<_, _>>()?
-            };
-            sensitivity(&variants, args.duration)
+
+    fn distinct(&self) -> usize {
+        self.runs.len()
+    }
+}
+
+/// Run one scene and read it as a simulation job does: the first acceleration channel
+/// recorded, analysed over the steady window with the default options. A run still going
+/// after `budget` of wall time is stopped and reported as over budget (a cage whirling on
+/// its land can hold the explicit step near 1e-8 s).
+fn run_scene(scene: &ValidScene, budget: Option<Duration>) -> Ran {
+    let failed = |e: String| Ran {
+        digest: Err(e),
+        spectrum: None,
+    };
+    let started = Instant::now();
+    let stop = AtomicBool::new(false);
+    let mut reached = 0.0;
+    let mut watch = |fraction: f64| {
+        reached = fraction;
+        if budget.is_some_and(|b| started.elapsed() > b) {
+            stop.store(true, Ordering::Relaxed);
         }
     };
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("--out {}: {e}", args.out.display()))?;
-    let (rows, failed) = run_points(&points, args.workers.max(1), budget)?;
-    write_table(&args.out, &rows)?;
-    write_failures(&args.out, &failed)?;
-    if matches!(args.design, Design::PaperTrends) {
-        write_trend_plots(&args.out, &rows)?;
-    }
-    print_markdown(&rows);
-    if !failed.is_empty() {
-        println!();
-        println!("Points without a row:");
-        println!();
-        for f in &failed {
-            println!(
-                "- {:?} fault, {} rpm, Fa {} N, Fr {} N ({}): {}",
-                f.point.fault,
-                f.point.rpm,
-                f.point.axial_load,
-                f.point.radial_load,
-                f.point.lubricant.name,
-                f.error
-            );
+    let control = RunControl {
+        cancel: Some(&stop),
+        progress: Some(&mut watch),
+    };
+    let result = match simulate(scene, control) {
+        Ok(r) => r,
+        Err(e) if e.is_cancelled() => {
+            let duration = scene.solver.duration;
+            return failed(format!(
+                "over the {:.0} s wall-time budget at t = {:.4} of {duration} s simulated",
+                budget.unwrap_or_default().as_secs_f64(),
+                reached * duration
+            ));
         }
-    }
-    Ok(())
-}
-
-/// A point that produced no row, and why.
-#[derive(serde::Serialize)]
-struct FailedPoint {
-    point: StudyPoint,
-    error: String,
-}
-
-fn write_failures(dir: &Path, failed: &[FailedPoint]) -> Result<(), String> {
-    let path = dir.join("failed.json");
-    let text = serde_json::to_string_pretty(failed).map_err(|e| e.to_string())?;
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Run every distinct scene once, `workers` at a time; rows come back in design order.
-fn run_points(
-    points: &[StudyPoint],
-    workers: usize,
-    budget: Option<Duration>,
-) -> Result<(Vec<StudyRow>, Vec<FailedPoint>), String> {
-    let mut unique: Vec<&StudyPoint> = Vec::new();
-    let mut index_of: HashMap<String, usize> = HashMap::new();
-    let mut slot = Vec::with_capacity(points.len());
-    for p in points {
-        let key = serde_json::to_string(&p.scene()).map_err(|e| e.to_string())?;
-        let i = *index_of.entry(key).or_insert_with(|| {
-            unique.push(p);
-            unique.len() - 1
+        Err(e) => return failed(e.to_string()),
+    };
+    let Some(channel) = CHANNELS.iter().find(|c| result.channels.get(c).is_some()) else {
+        return failed(format!("no channel {} to analyse", CHANNELS.join(" or ")));
+    };
+    let out = match analyze_simulation(&result, scene, channel, &AnalysisOptions::default()) {
+        Ok(o) => o,
+        Err(e) => return failed(format!("analysis: {e}")),
+    };
+    let level = out.report.best_component.level;
+    let spectrum = out
+        .level_spectra
+        .get(level - 1)
+        .and_then(Option::as_ref)
+        .map(|s| PointSpectrum {
+            df: s.df,
+            amplitude: s.amplitude.clone(),
+            level,
         });
-        slot.push(i);
+    Ran {
+        digest: Ok(RunDigest::of_run(&result, scene, out.report)),
+        spectrum,
     }
-    let bar = ProgressBar::new(unique.len() as u64);
+}
+
+/// Run every distinct scene of the plan once, `workers` at a time.
+fn run_plan(plan: &Plan, workers: usize, budget: Option<Duration>) -> PlanRuns {
+    // each distinct scene once: `first_of[u]` is the first point of scene `u`
+    let mut slot = Vec::with_capacity(plan.points.len());
+    let mut first_of: Vec<usize> = Vec::new();
+    let mut index: HashMap<String, usize> = HashMap::new();
+    for (i, p) in plan.points.iter().enumerate() {
+        let u = *index.entry(scene_key(&p.scene)).or_insert_with(|| {
+            first_of.push(i);
+            first_of.len() - 1
+        });
+        slot.push(u);
+    }
+    let distinct = first_of.len();
+    let bar = ProgressBar::new(distinct as u64);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} {msg}")
             .expect("static template"),
     );
     let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<Result<StudyRow, String>>>> =
-        Mutex::new(vec![None; unique.len()]);
+    let results: Mutex<Vec<Option<Ran>>> = Mutex::new((0..distinct).map(|_| None).collect());
     std::thread::scope(|s| {
-        for _ in 0..workers.min(unique.len()) {
+        for _ in 0..workers.min(distinct) {
             s.spawn(|| loop {
-                let i = next.fetch_add(1, Ordering::Relaxed);
-                let Some(p) = unique.get(i) else { break };
-                let r = run_point(p, budget).map_err(|e| e.to_string());
-                let what = format!(
-                    "{:?} fault, {} rpm, Fa {} N, Fr {} N ({})",
-                    p.fault, p.rpm, p.axial_load, p.radial_load, p.lubricant.name
-                );
-                let line = match &r {
-                    Ok(row) => format!(
-                        "{what}: cage error {:+.3} %, {:.1} s",
-                        row.cage_error_pct, row.wall_time
-                    ),
+                let u = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&i) = first_of.get(u) else { break };
+                let p = &plan.points[i];
+                let ran = run_scene(&p.scene, budget);
+                let what = point_name(plan, i);
+                let line = match &ran.digest {
+                    Ok(d) => format!("{what}: {:.1} s", d.wall_time),
                     Err(e) => format!("{what}: failed: {e}"),
                 };
                 // one line per point: the log when stderr is not a terminal (the bar hides)
                 bar.println(&line);
                 if bar.is_hidden() {
-                    eprintln!("[{}/{}] {line}", i + 1, unique.len());
+                    eprintln!("[{}/{distinct}] {line}", u + 1);
                 }
                 bar.set_message(what);
                 bar.inc(1);
-                results.lock().expect("no worker panics while holding it")[i] = Some(r);
+                results.lock().expect("no worker panics while holding it")[u] = Some(ran);
             });
         }
     });
     bar.finish_and_clear();
-    let results = results.into_inner().expect("workers joined");
-    let mut rows = Vec::with_capacity(points.len());
-    let mut failed = Vec::new();
-    for (p, &i) in points.iter().zip(&slot) {
-        match results[i].as_ref().expect("every point ran") {
-            Ok(row) => {
-                let mut row = row.clone();
-                // a shared scene is listed under each factor it belongs to
-                row.factor = p.factor;
-                row.value = p.value();
-                rows.push(row);
-            }
-            Err(e) => failed.push(FailedPoint {
-                point: p.clone(),
-                error: e.clone(),
-            }),
-        }
-    }
-    Ok((rows, failed))
+    let runs = results
+        .into_inner()
+        .expect("workers joined")
+        .into_iter()
+        .map(|r| r.expect("every scene ran"))
+        .collect();
+    PlanRuns { runs, slot }
 }
 
-const CSV_HEADER: &str = "factor,value,fault,lubricant,rpm,axial_load_N,radial_load_N,line,theory_hz,loaded_theory_hz,cage_hz,cage_error_pct,raw_hz,raw_error_pct,raw_prominence_db,raw_detected,best_level,best_hz,best_error_pct,best_prominence_db,best_detected,df_hz,cage_slip,cage_state,cage_eccentricity,wall_time_s,rhs_evaluations";
-
-fn csv_line(r: &StudyRow) -> String {
-    format!(
-        "{},{},{:?},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.2},{},{},{:.4},{:.4},{:.2},{},{:.4},{:.6},{:?},{:.4},{:.2},{}",
-        r.factor.name(),
-        r.value,
-        r.fault,
-        r.lubricant,
-        r.rpm,
-        r.axial_load,
-        r.radial_load,
-        r.line,
-        r.theory_hz,
-        r.loaded_theory_hz,
-        r.cage_hz,
-        r.cage_error_pct,
-        r.raw_hz,
-        r.raw_error_pct,
-        r.raw_prominence_db,
-        r.raw_detected,
-        r.best_level,
-        r.best_hz,
-        r.best_error_pct,
-        r.best_prominence_db,
-        r.best_detected,
-        r.df_hz,
-        r.cage_slip,
-        r.cage_state,
-        r.cage_eccentricity,
-        r.wall_time,
-        r.rhs_evaluations
-    )
+/// A point as a log line names it: its label, fault case and factor values.
+fn point_name(plan: &Plan, i: usize) -> String {
+    let spec = &plan.points[i].spec;
+    let mut parts: Vec<String> = spec.label.iter().cloned().collect();
+    if let Some(c) = spec.fault_case {
+        parts.push(format!("{c:?} fault").to_lowercase());
+    }
+    parts.extend(
+        spec.factors
+            .iter()
+            .map(|f| format!("{} {}", f.name, f.value)),
+    );
+    format!("point {i} ({})", parts.join(", "))
 }
 
-fn write_table(dir: &Path, rows: &[StudyRow]) -> Result<(), String> {
-    let mut csv = String::from(CSV_HEADER);
-    csv.push('\n');
-    for r in rows {
-        csv.push_str(&csv_line(r));
-        csv.push('\n');
+/// The study's table from its runs, as the API reads it from its jobs (no job ids).
+fn table_of(plan: &Plan, runs: &PlanRuns) -> StudyTable {
+    let rows = plan
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let (state, err, d) = match &runs.of_point(i).digest {
+                Ok(d) => (PointState::Succeeded, None, Some(d)),
+                Err(e) => (PointState::Failed, Some(e.clone()), None),
+            };
+            StudyTableRow::new(i, &p.spec, None, state, err, d)
+        })
+        .collect();
+    StudyTable {
+        id: String::new(),
+        name: plan.name.clone(),
+        factors: plan.design.factors.iter().map(|f| f.name.clone()).collect(),
+        rows,
     }
+}
+
+/// `table.csv`, `table.json` and every plot of the study.
+fn write_outputs(out: &Path, plan: &Plan, table: &StudyTable, runs: &PlanRuns) -> CliResult {
     let write = |name: &str, text: &str| {
-        std::fs::write(dir.join(name), text)
-            .map_err(|e| format!("{}: {e}", dir.join(name).display()))
+        std::fs::write(out.join(name), text)
+            .map_err(|e| format!("{}: {e}", out.join(name).display()))
     };
-    write("table.csv", &csv)?;
+    write("table.csv", &to_csv(table))?;
     write(
         "table.json",
-        &serde_json::to_string_pretty(rows).map_err(|e| e.to_string())?,
-    )
-}
-
-/// One chart per factor and fault: eq. 37, the frequency identified in the raw and the
-/// best-component envelope spectra and the cage-speed frequency (left axis), and the raw
-/// spectrum's and the cage's errors (right axis).
-fn write_trend_plots(dir: &Path, rows: &[StudyRow]) -> Result<(), String> {
-    for fault in [FaultCase::Inner, FaultCase::Outer] {
-        for factor in [Factor::Speed, Factor::AxialLoad, Factor::RadialLoad] {
-            let sel: Vec<&StudyRow> = rows
-                .iter()
-                .filter(|r| r.fault == fault && r.factor == factor)
-                .collect();
-            if sel.is_empty() {
-                continue;
-            }
-            let series = |label: &str, on_error_axis, f: &dyn Fn(&StudyRow) -> f64| TrendSeries {
-                label: label.into(),
-                points: sel.iter().map(|r| (r.value, f(r))).collect(),
-                on_error_axis,
-            };
-            let line = &sel[0].line;
-            let all = [
-                series(&format!("{line}, eq. 37 (15 deg)"), false, &|r| r.theory_hz),
-                series(&format!("{line}, raw envelope spectrum"), false, &|r| {
-                    r.raw_hz
-                }),
-                series(&format!("{line}, best DTCWT component"), false, &|r| {
-                    r.best_hz
-                }),
-                series("error, raw envelope spectrum", true, &|r| r.raw_error_pct),
-                series("error, from the cage speed", true, &|r| r.cage_error_pct),
-            ];
-            let fault_name = match fault {
-                FaultCase::Inner => "inner",
-                _ => "outer",
-            };
-            let title = format!(
-                "Single {fault_name}-ring fault: {line} against {} ({})",
-                factor.label(),
-                sel[0].lubricant
-            );
-            let svg = trend_svg(&title, factor.label(), &all).map_err(|e| e.to_string())?;
-            let name = format!("{}-{fault_name}.svg", factor.name().replace('_', "-"));
-            std::fs::write(dir.join(&name), svg)
-                .map_err(|e| format!("{}: {e}", dir.join(&name).display()))?;
+        &serde_json::to_string_pretty(table).map_err(|e| e.to_string())?,
+    )?;
+    let mut lookup = |r: &StudyTableRow| runs.of_point(r.index).spectrum.clone();
+    for name in plot_names(&plan.design, row_keys(&table.rows)) {
+        match draw(&plan.name, &plan.design, &table.rows, &name, &mut lookup) {
+            Some(Ok(svg)) => write(&name, &svg)?,
+            Some(Err(e)) => eprintln!("{name}: not drawn: {e}"),
+            None => {}
         }
     }
     Ok(())
 }
 
-fn print_markdown(rows: &[StudyRow]) {
-    println!("| fault | factor | value | lubricant | eq. 37 (Hz) | raw (Hz) | raw error (%) | raw prominence (dB) | best level | best error (%) | cage error (%) | cage | e | wall (s) |");
+/// A markdown table: per point its factors, each line's eq. 37 value, the best component's
+/// reading and the cage-speed error.
+fn print_summary(table: &StudyTable, elapsed: f64, distinct: usize) {
     println!(
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+        "{}: {} points ({distinct} distinct scenes) in {elapsed:.1} s",
+        table.name,
+        table.rows.len()
     );
-    for r in rows {
-        println!(
-            "| {:?} | {} | {} | {} | {:.2} | {:.2} | {:+.3} | {:.1} | {} | {:+.3} | {:+.3} | {:?} | {:.2} | {:.1} |",
-            r.fault,
-            r.factor.name(),
-            r.value,
-            r.lubricant,
-            r.theory_hz,
-            r.raw_hz,
-            r.raw_error_pct,
-            r.raw_prominence_db,
-            r.best_level,
-            r.best_error_pct,
-            r.cage_error_pct,
-            r.cage_state,
-            r.cage_eccentricity,
-            r.wall_time
-        );
+    println!();
+    println!("| point | fault | {} | BPFO (Hz) | BPFO best (Hz) | BPFO best error (%) | BPFO detected | BPFO cage error (%) | BPFI (Hz) | BPFI best (Hz) | BPFI best error (%) | BPFI detected | BPFI cage error (%) | level | whirl | wall (s) |", table.factors.join(" | "));
+    println!("|{}", " --- |".repeat(table.factors.len() + 16));
+    for r in &table.rows {
+        let factors: Vec<String> = r.factors.iter().map(|f| format!("{}", f.value)).collect();
+        let name = match &r.label {
+            Some(l) => format!("{} {l}", r.index),
+            None => r.index.to_string(),
+        };
+        let fault = r
+            .fault_case
+            .map(|c| format!("{c:?}").to_lowercase())
+            .unwrap_or_default();
+        match &r.result {
+            Some(p) => {
+                let cells = |l: &LineReading| {
+                    format!(
+                        "{:.2} | {:.2} | {:+.3} | {} | {:+.3}",
+                        l.theory_hz, l.best.hz, l.best.error_pct, l.best.detected, l.cage_error_pct
+                    )
+                };
+                println!(
+                    "| {name} | {fault} | {} | {} | {} | {} | {} | {:.1} |",
+                    factors.join(" | "),
+                    cells(&p.bpfo),
+                    cells(&p.bpfi),
+                    p.bpfo.best_level,
+                    p.cage.whirl.map(|w| w.to_string()).unwrap_or_default(),
+                    p.wall_time
+                );
+            }
+            None => println!(
+                "| {name} | {fault} | {} | failed: {} |",
+                factors.join(" | "),
+                r.error.as_deref().unwrap_or("")
+            ),
+        }
     }
 }

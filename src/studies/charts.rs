@@ -1,11 +1,9 @@
 //! A study's plots: a trend chart per factor line and fault case (Figures 23-28), and a
 //! grid of the points' envelope spectra (Figure 17).
 
-use super::plan::DesignSummary;
-use super::table::{PointResult, StudyTableRow};
 use crate::plots::{spectra_grid_svg, trend_svg, Marker, PlotError, SpectrumPanel, TrendSeries};
 use bearing_core::scene::FaultCase;
-use bearing_core::study::FaultLine;
+use bearing_core::study::{DesignSummary, FaultLine, PointResult, StudyTableRow};
 
 /// An envelope spectrum of one point: bin `k` at `k * df`.
 #[derive(Debug, Clone)]

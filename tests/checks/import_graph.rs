@@ -47,6 +47,8 @@ const LAYERS: &[Layers] = &[
         krate: "engine",
         ranks: &[
             ("json_float", 0),
+            // Merge patches and pointer assignments on scene documents (requests, designs).
+            ("json_doc", 0),
             ("scene", 1),
             ("physics", 2),
             // Signal analysis knows bearings (scene) and nothing of the models.
@@ -61,7 +63,7 @@ const LAYERS: &[Layers] = &[
             ("simulation_analysis", 6),
             // The stress suite builds scenes, runs them and checks their results.
             ("stress", 6),
-            // Studies run points and read them with the analysis glue.
+            // Study requests, designs and plans as data, and the table read from runs.
             ("study", 7),
             (ROOT, 10),
         ],
@@ -71,7 +73,6 @@ const LAYERS: &[Layers] = &[
     Layers {
         krate: "service",
         ranks: &[
-            ("json_doc", 9),
             ("store", 10),
             ("metrics", 11),
             // Plots draw engine types to SVG; the CLI and (later) the API use them.

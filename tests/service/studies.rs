@@ -337,3 +337,141 @@ async fn a_bad_point_is_named_and_nothing_is_queued() {
     let (status, _, _) = get_json(&c, &s.url("/v1/studies/nope")).await;
     assert_eq!(status, 404);
 }
+
+/// Run `bearing-sim study request` on `body` into a temporary directory; the directory
+/// (kept alive by the returned guard) holds `table.json`, `table.csv` and the plots.
+fn cli_study(body: &Value, args: &[&str]) -> (tempfile::TempDir, std::process::Output) {
+    let dir = tempfile::tempdir().unwrap();
+    let req = dir.path().join("request.json");
+    std::fs::write(&req, serde_json::to_string(body).unwrap()).unwrap();
+    let out = dir.path().join("out");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["study", "request", "--request"])
+        .arg(&req)
+        .arg("--out")
+        .arg(&out)
+        .args(args)
+        .output()
+        .unwrap();
+    (dir, output)
+}
+
+/// Numbers equal to 1e-9 relative; everything else exactly. `skip` names members that
+/// differ by nature (job ids, wall times). The 1e-9: the service stores the scene and the
+/// record as JSON text and parses them back, which may move a float by an ulp.
+fn same(a: &Value, b: &Value, skip: &[&str], at: &str) {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys = |m: &serde_json::Map<String, Value>| -> Vec<String> {
+                m.keys()
+                    .filter(|k| !skip.contains(&k.as_str()))
+                    .cloned()
+                    .collect()
+            };
+            assert_eq!(keys(x), keys(y), "members at {at}");
+            for k in keys(x) {
+                same(&x[&k], &y[&k], skip, &format!("{at}.{k}"));
+            }
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            assert_eq!(x.len(), y.len(), "length at {at}");
+            for (i, (p, q)) in x.iter().zip(y).enumerate() {
+                same(p, q, skip, &format!("{at}[{i}]"));
+            }
+        }
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!(
+                (x - y).abs() <= 1e-9 * x.abs().max(y.abs()),
+                "{at}: {x} against {y}"
+            );
+        }
+        _ => assert_eq!(a, b, "at {at}"),
+    }
+}
+
+#[tokio::test]
+async fn the_cli_and_the_api_give_the_same_table_for_the_same_design() {
+    // two short points of the outer-fault preset (30 ms: a 22.5 ms steady window)
+    let body = axial_load_study(0.03, &[300.0, 400.0]);
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "2"]);
+    let c = client();
+    let (status, _, st) = post_json(&c, &s.url("/v1/studies"), &body).await;
+    assert_eq!(status, 202, "{st}");
+    let id = st["id"].as_str().unwrap().to_string();
+    let done = wait_study(&c, &s, &id, Duration::from_secs(300), finished).await;
+    assert_eq!(done["state"], "succeeded", "{done}");
+    let (_, _, api) = get_json(&c, &s.url(&format!("/v1/studies/{id}/table"))).await;
+    let api_csv = c
+        .get(s.url(&format!("/v1/studies/{id}/table")))
+        .header("accept", "text/csv")
+        .send()
+        .await
+        .unwrap()
+        .text()
+        .await
+        .unwrap();
+
+    let (dir, output) = cli_study(&body, &["--workers", "2"]);
+    assert!(output.status.success(), "{output:?}");
+    let out = dir.path().join("out");
+    let cli: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("table.json")).unwrap()).unwrap();
+    let cli_csv = std::fs::read_to_string(out.join("table.csv")).unwrap();
+
+    // the same table: name, factors, and per row every member and value but the job id
+    // (a local run has none) and the solver's wall time
+    assert_eq!(cli["name"], api["name"]);
+    assert_eq!(cli["factors"], json!(["axial_load"]));
+    same(&cli, &api, &["id", "job_id", "wall_time"], "table");
+    assert_eq!(api["rows"].as_array().unwrap().len(), 2);
+    assert!(api["rows"][1]["result"]["bpfo"]["theory_hz"].is_number());
+    // the same CSV columns, and the same cells but those
+    let (cl, al): (Vec<&str>, Vec<&str>) = (cli_csv.lines().collect(), api_csv.lines().collect());
+    assert_eq!(cl.len(), 3, "{cli_csv}");
+    assert_eq!(cl[0], al[0], "CSV headers");
+    let header: Vec<&str> = cl[0].split(',').collect();
+    for (c_line, a_line) in cl[1..].iter().zip(&al[1..]) {
+        for ((h, x), y) in header.iter().zip(c_line.split(',')).zip(a_line.split(',')) {
+            match *h {
+                "job_id" | "wall_time_s" => {}
+                _ => match (x.parse::<f64>(), y.parse::<f64>()) {
+                    (Ok(x), Ok(y)) => {
+                        assert!(
+                            (x - y).abs() <= 1e-9 * x.abs().max(y.abs()),
+                            "{h}: {x} against {y}"
+                        )
+                    }
+                    _ => assert_eq!(x, y, "{h}"),
+                },
+            }
+        }
+    }
+    // and the same plots
+    for name in ["axial_load-outer.svg", "spectra.svg"] {
+        assert!(done["links"][format!("plot:{name}")].is_string(), "{name}");
+        assert!(out.join(name).is_file(), "{name}");
+    }
+}
+
+#[test]
+fn the_cli_stops_a_point_at_its_budget_and_lists_it_as_failed() {
+    // 10 s simulated cannot finish in 0.3 s of wall time
+    let (dir, output) = cli_study(
+        &axial_load_study(10.0, &[300.0]),
+        &["--point-budget", "0.3"],
+    );
+    assert!(output.status.success(), "{output:?}");
+    let table: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/table.json")).unwrap())
+            .unwrap();
+    let row = &table["rows"][0];
+    assert_eq!(row["state"], "failed", "{row}");
+    assert!(row["result"].is_null(), "{row}");
+    let e = row["error"].as_str().unwrap();
+    assert!(
+        e.contains("wall-time budget") && e.contains("of 10 s simulated"),
+        "{e}"
+    );
+}

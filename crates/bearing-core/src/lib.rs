@@ -6,6 +6,8 @@
 //!
 //! Layers, each importing only from the ones above it in this list:
 //! - [`json_float`]: NaN-tolerant float fields in JSON (a helper every layer may use).
+//! - [`json_doc`]: merge patches (RFC 7396) and JSON-pointer assignments (RFC 6901) on
+//!   scene documents (study designs and requests that patch a preset).
 //! - [`scene`]: the input (geometry, materials, lubricant, operating point, faults, solver),
 //!   validation into a [`scene::ValidScene`], presets.
 //! - [`physics`]: frames, contact geometry, Hertz, traction, cage interactions, defects,
@@ -20,12 +22,14 @@
 //! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification. It
 //!   knows bearings (scene) but nothing of simulations.
 //! - [`simulation_analysis`]: the glue that analyses a simulated signal (above both).
-//! - [`study`]: parameter studies (the paper's Figures 23-28): designs as data, a point run
-//!   and read into a table row.
+//! - [`study`]: parameter studies as data: a request and its designs (the paper's Figures
+//!   23-28, Table 2, the lubricant sensitivity) expanded into validated points, and the
+//!   table read from their runs. Running the points is the caller's.
 //! - `stress` (feature `stress`, off by default): the stability stress suite: extreme scenes
 //!   and the invariants their runs keep (or the field their refusal names).
 
 pub mod dynamics;
+pub mod json_doc;
 pub mod json_float;
 pub mod model;
 pub mod physics;

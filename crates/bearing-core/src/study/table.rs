@@ -2,17 +2,41 @@
 //! run (eq. 37 at the nominal and at the loaded angle, the cage-speed value, the peaks
 //! identified in the raw and best-component envelope spectra), the cage, and the run time.
 
-use super::plan::{FactorValue, PointSpec};
-/// A point's state is its simulation job's (local runs: succeeded or failed).
-pub use crate::store::JobState;
-use bearing_core::dynamics::CageMotion;
-use bearing_core::scene::FaultCase;
-use bearing_core::signal::analysis::AnalysisReport;
-use bearing_core::simulation_analysis::FrequencyComparison;
-use bearing_core::study::{read_line, FaultLine, LineReading};
-use serde::Serialize;
-use std::fmt::Write;
-use utoipa::ToSchema;
+use super::design::{FactorValue, PointSpec};
+use super::reading::{read_line, FaultLine, LineReading};
+use crate::dynamics::{CageMotion, CageState};
+use crate::scene::{FaultCase, ValidScene};
+use crate::signal::analysis::AnalysisReport;
+use crate::simulation::SimResult;
+use crate::simulation_analysis::{frequency_comparison, FrequencyComparison};
+use serde::{Deserialize, Serialize};
+use std::fmt::{self, Write};
+
+// Where a point is: its simulation job's state in the service, succeeded or failed in a
+// local run. The schema shares the name and values of the service's job state. (A plain
+// comment: a doc comment would give this schema a description the job state's lacks.)
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema), schema(as = JobState))]
+#[serde(rename_all = "snake_case")]
+pub enum PointState {
+    Queued,
+    Running,
+    Succeeded,
+    Failed,
+    Cancelled,
+}
+
+impl fmt::Display for PointState {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            PointState::Queued => "queued",
+            PointState::Running => "running",
+            PointState::Succeeded => "succeeded",
+            PointState::Failed => "failed",
+            PointState::Cancelled => "cancelled",
+        })
+    }
+}
 
 /// What a table row needs of a finished run (from a stored record or a local run).
 #[derive(Debug, Clone)]
@@ -30,17 +54,34 @@ pub struct RunDigest {
     pub wall_time: f64,
 }
 
+impl RunDigest {
+    /// From a run in hand and its envelope analysis.
+    pub fn of_run(result: &SimResult, scene: &ValidScene, report: AnalysisReport) -> RunDigest {
+        let s = &result.summary;
+        RunDigest {
+            frequencies: frequency_comparison(result, scene),
+            report,
+            cage_speed: s.mean_cage_speed,
+            epicyclic_speed: s.epicyclic_cage_speed,
+            slip: s.cage_slip,
+            cage_motion: Some(s.cage_motion),
+            wall_time: s.stats.wall_time,
+        }
+    }
+}
+
 /// The cage over the steady window.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct CageReading {
     /// rad/s (null only for a degenerate run, as in a simulation's result).
-    #[schema(nullable)]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub mean_speed: f64,
     /// rad/s.
-    #[schema(nullable)]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub epicyclic_speed: f64,
     /// -.
-    #[schema(nullable)]
+    #[cfg_attr(feature = "openapi", schema(nullable))]
     pub slip: f64,
     /// The cage centre whirls on its land (null for records without the cage's motion).
     pub whirl: Option<bool>,
@@ -49,7 +90,8 @@ pub struct CageReading {
 }
 
 /// The readings of a point whose run succeeded.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct PointResult {
     /// Mean shaft frequency, Hz.
     pub shaft_hz: f64,
@@ -73,9 +115,7 @@ impl PointResult {
                 mean_speed: d.cage_speed,
                 epicyclic_speed: d.epicyclic_speed,
                 slip: d.slip,
-                whirl: d
-                    .cage_motion
-                    .map(|m| m.state == bearing_core::dynamics::CageState::Whirling),
+                whirl: d.cage_motion.map(|m| m.state == CageState::Whirling),
                 mean_eccentricity: d.cage_motion.map(|m| m.mean_eccentricity),
             },
             wall_time: d.wall_time,
@@ -101,7 +141,8 @@ impl PointResult {
 }
 
 /// One row of the table.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct StudyTableRow {
     /// Point index in the design, from 0.
     pub index: usize,
@@ -110,7 +151,7 @@ pub struct StudyTableRow {
     /// The point's simulation job (absent in local runs).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub job_id: Option<String>,
-    pub state: JobState,
+    pub state: PointState,
     /// Why the point has no result.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
@@ -131,7 +172,7 @@ impl StudyTableRow {
         index: usize,
         spec: &PointSpec,
         job_id: Option<String>,
-        state: JobState,
+        state: PointState,
         error: Option<String>,
         digest: Option<&RunDigest>,
     ) -> StudyTableRow {
@@ -158,7 +199,8 @@ impl StudyTableRow {
 }
 
 /// The whole table as JSON.
-#[derive(Debug, Clone, Serialize, ToSchema)]
+#[derive(Debug, Clone, Serialize)]
+#[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct StudyTable {
     pub id: String,
     pub name: String,

@@ -5,4 +5,4 @@ pub mod merge_patch;
 pub mod pointer;
 
 pub use merge_patch::merge_patch;
-pub use pointer::{set_at_pointer, PointerError};
+pub use pointer::{put_member, set_at_pointer, PointerError};

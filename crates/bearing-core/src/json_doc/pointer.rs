@@ -48,6 +48,31 @@ pub fn set_at_pointer(doc: &mut Value, pointer: &str, value: Value) -> Result<()
     Ok(())
 }
 
+/// Put `value` as the member the pointer's last token names, in the object its parent
+/// names (which must exist), replacing or adding it: for members a design owns whatever the
+/// base had (a defect list, a lubricant model the base left at its default).
+pub fn put_member(doc: &mut Value, pointer: &str, value: Value) -> Result<(), PointerError> {
+    let Some((parent, last)) = pointer.rsplit_once('/') else {
+        return Err(PointerError::Syntax(pointer.into()));
+    };
+    let missing = || PointerError::Missing {
+        pointer: pointer.into(),
+        missing: parent.into(),
+    };
+    let target = if parent.is_empty() {
+        Some(doc)
+    } else {
+        doc.pointer_mut(parent)
+    };
+    match target {
+        Some(Value::Object(map)) => {
+            map.insert(last.replace("~1", "/").replace("~0", "~"), value);
+            Ok(())
+        }
+        _ => Err(missing()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -77,5 +102,20 @@ mod tests {
             set_at_pointer(&mut d, "a/b", json!(0)),
             Err(PointerError::Syntax(_))
         ));
+    }
+
+    #[test]
+    fn puts_a_member_into_an_existing_object() {
+        let mut d = json!({"a": {"b": 1}, "list": [10]});
+        put_member(&mut d, "/a/b", json!({"x": 2})).unwrap();
+        put_member(&mut d, "/a/new", json!(3)).unwrap();
+        put_member(&mut d, "/top", json!(4)).unwrap();
+        assert_eq!(
+            d,
+            json!({"a": {"b": {"x": 2}, "new": 3}, "list": [10], "top": 4})
+        );
+        for bad in ["/nope/x", "/list/x", "nope"] {
+            assert!(put_member(&mut d, bad, json!(0)).is_err(), "{bad}");
+        }
     }
 }

@@ -1,0 +1,111 @@
+//! Lubricant variants as data: the physics a trend study runs under (docs/reference/model.md,
+//! "Lubricant drag", "EHL rolling resistance", "Traction laws"), each a set of scene fields
+//! a named design assigns over its base.
+
+use crate::scene::{CavityDrag, RollingResistanceModel, Traction};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+/// The lubricant physics a point runs with. The seed paper's model is `paper`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LubricantVariant {
+    /// Short name used in tables, labels and file names.
+    pub name: String,
+    pub cavity_drag: CavityDrag,
+    pub rolling_resistance: RollingResistanceModel,
+    /// `None` keeps the base scene's traction law.
+    pub traction: Option<Traction>,
+}
+
+impl LubricantVariant {
+    /// The seed paper's model: no drag, no rolling resistance, the base's traction curve.
+    pub fn paper() -> Self {
+        LubricantVariant {
+            name: "paper".into(),
+            cavity_drag: CavityDrag::None,
+            rolling_resistance: RollingResistanceModel::None,
+            traction: None,
+        }
+    }
+
+    /// The scene fields the variant sets, as (JSON pointer, value): whole members, so a
+    /// traction law replaces the base's whatever its model.
+    pub fn sets(&self) -> Vec<(String, Value)> {
+        let mut sets = vec![
+            (
+                "/lubricant/cavity_drag".to_string(),
+                value(&self.cavity_drag),
+            ),
+            (
+                "/lubricant/rolling_resistance".to_string(),
+                value(&self.rolling_resistance),
+            ),
+        ];
+        if let Some(t) = &self.traction {
+            sets.push(("/lubricant/traction".to_string(), value(t)));
+        }
+        sets
+    }
+}
+
+fn value<T: Serialize>(part: &T) -> Value {
+    serde_json::to_value(part).expect("scene parts serialize")
+}
+
+/// Every named variant: the paper's model, each added term alone, both together, a richer
+/// oil-air mixture, and the elastic-plastic film traction law with its defaults, with drag
+/// and rolling resistance, and with each coefficient at the ends of its plausible range
+/// (the sensitivity table's rows).
+pub fn lubricant_variants() -> Vec<LubricantVariant> {
+    let drag = |x| CavityDrag::OilAir { oil_fraction: x };
+    let houpert = RollingResistanceModel::Houpert { factor: 1.0 };
+    let v = |name: &str, cavity_drag, rolling_resistance| LubricantVariant {
+        name: name.into(),
+        cavity_drag,
+        rolling_resistance,
+        traction: None,
+    };
+    let film = |name: &str, shear_modulus, eyring_stress, limiting_coefficient, with_drag| {
+        let (cavity_drag, rolling_resistance) = if with_drag {
+            (drag(0.01), houpert)
+        } else {
+            (CavityDrag::None, RollingResistanceModel::None)
+        };
+        LubricantVariant {
+            name: name.into(),
+            cavity_drag,
+            rolling_resistance,
+            traction: Some(Traction::Film {
+                shear_modulus,
+                eyring_stress,
+                limiting_coefficient,
+            }),
+        }
+    };
+    vec![
+        LubricantVariant::paper(),
+        v("drag", drag(0.01), RollingResistanceModel::None),
+        v("rolling", CavityDrag::None, houpert),
+        v("drag+rolling", drag(0.01), houpert),
+        v("drag5+rolling", drag(0.05), houpert),
+        film("film", 1e9, 5e6, 0.07, false),
+        film("film+drag+rolling", 1e9, 5e6, 0.07, true),
+        film("film-G0.3", 0.3e9, 5e6, 0.07, false),
+        film("film-G2", 2e9, 5e6, 0.07, false),
+        film("film-tau2", 1e9, 2e6, 0.07, false),
+        film("film-tau10", 1e9, 10e6, 0.07, false),
+        film("film-L0.05", 1e9, 5e6, 0.05, false),
+        film("film-L0.10", 1e9, 5e6, 0.10, false),
+    ]
+}
+
+/// The catalogue's variant of that name; the error lists the names.
+pub fn lubricant_variant(name: &str) -> Result<LubricantVariant, String> {
+    let all = lubricant_variants();
+    let names: Vec<&str> = all.iter().map(|v| v.name.as_str()).collect();
+    let names = names.join(", ");
+    all.iter()
+        .find(|v| v.name == name)
+        .cloned()
+        .ok_or_else(|| format!("unknown lubricant variant '{name}'; variants: {names}"))
+}
