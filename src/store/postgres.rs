@@ -11,9 +11,9 @@
 
 use super::contract::StoreError;
 use super::migrations::additive;
-use super::sql::{Backend, SqlStore};
+use super::sql::{pool_options, Backend, SqlStore};
 use async_trait::async_trait;
-use sqlx::postgres::{PgListener, PgPoolOptions};
+use sqlx::postgres::PgListener;
 use sqlx::{Pool, Postgres, Transaction};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -53,11 +53,7 @@ impl Backend for Postgres {
     /// Connect and migrate. The database must exist; its schema is created on first use
     /// (concurrent starts are safe: sqlx migrates under an advisory lock).
     async fn open(url: &str) -> Result<Pool<Postgres>, StoreError> {
-        let pool = PgPoolOptions::new()
-            .max_connections(8)
-            .acquire_timeout(Duration::from_secs(30))
-            .connect(url)
-            .await?;
+        let pool = pool_options::<Postgres>().connect(url).await?;
         additive(sqlx::migrate!("./migrations/postgres"))
             .run(&pool)
             .await?;

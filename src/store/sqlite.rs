@@ -2,13 +2,14 @@
 //!
 //! The operations that read and then write take the write lock at their start
 //! (`BEGIN IMMEDIATE`), so concurrent writers queue on SQLite's lock with the busy timeout
-//! instead of failing on a read-to-write upgrade; every other write is one statement.
+//! instead of failing on a read-to-write upgrade; every other write is one statement, or
+//! (a job's outcome) a transaction whose first statement writes.
 
 use super::contract::StoreError;
 use super::migrations::additive;
-use super::sql::{Backend, SqlStore};
+use super::sql::{pool_options, Backend, SqlStore};
 use async_trait::async_trait;
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
+use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqliteSynchronous};
 use sqlx::{Pool, Sqlite, Transaction};
 use std::str::FromStr;
 use std::time::Duration;
@@ -37,11 +38,7 @@ impl Backend for Sqlite {
                 std::fs::create_dir_all(parent).map_err(|e| StoreError::Db(sqlx::Error::Io(e)))?;
             }
         }
-        let pool = SqlitePoolOptions::new()
-            .max_connections(8)
-            .acquire_timeout(Duration::from_secs(30))
-            .connect_with(opts)
-            .await?;
+        let pool = pool_options::<Sqlite>().connect_with(opts).await?;
         additive(sqlx::migrate!("./migrations/sqlite"))
             .run(&pool)
             .await?;

@@ -5,8 +5,10 @@ use super::rows::Columns;
 use super::statement::{RowsAffected, Statements};
 use crate::store::contract::StoreError;
 use async_trait::async_trait;
+use sqlx::pool::PoolOptions;
 use sqlx::{Database, IntoArguments, Pool, Transaction};
 use std::sync::Arc;
+use std::time::Duration;
 use tokio::sync::Notify;
 
 #[async_trait]
@@ -58,4 +60,11 @@ pub trait Backend:
 /// (a placeholder such as `$3`).
 pub fn lease_clock<B: Backend>(now: &'static str) -> &'static str {
     B::SERVER_CLOCK_MS.unwrap_or(now)
+}
+
+/// The pool either backend opens: 8 connections a process, 30 s to wait for one.
+pub fn pool_options<B: Backend>() -> PoolOptions<B> {
+    PoolOptions::new()
+        .max_connections(8)
+        .acquire_timeout(Duration::from_secs(30))
 }

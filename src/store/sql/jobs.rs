@@ -10,7 +10,8 @@ use sqlx::Pool;
 
 /// What a cancel sets on a job: queued ones end cancelled (finished at `$2`, error `$3`),
 /// running ones are flagged for their worker's next heartbeat.
-pub(super) const CANCEL_SET: &str = "state = CASE WHEN state = 'queued' THEN 'cancelled' ELSE state END, \
+pub(super) const CANCEL_SET: &str =
+    "state = CASE WHEN state = 'queued' THEN 'cancelled' ELSE state END, \
      finished_at = CASE WHEN state = 'queued' THEN $2 ELSE finished_at END, \
      error = CASE WHEN state = 'queued' THEN $3 ELSE error END, \
      cancel_requested = TRUE";
@@ -119,7 +120,10 @@ pub(super) async fn list<B: Backend>(pool: &Pool<B>, f: &ListFilter) -> Result<P
     Ok(Page { jobs, next })
 }
 
-pub(super) async fn request_cancel<B: Backend>(pool: &Pool<B>, id: &str) -> Result<Job, StoreError> {
+pub(super) async fn request_cancel<B: Backend>(
+    pool: &Pool<B>,
+    id: &str,
+) -> Result<Job, StoreError> {
     let now = now_ms();
     // One statement, so a job requeued meanwhile (a lease recovery elsewhere) is judged
     // as it is now: queued ends cancelled, running gets the flag.

@@ -19,6 +19,11 @@
 //!   `bool` whichever way the backend stores it.
 //! - The claim is one statement for both, with the backend's lock clause: the order in
 //!   which jobs are taken is decided in one place (`queue::next_claimable`).
+//! - Transactions are the same on both. What reads and then writes runs in
+//!   [`Backend::begin_locked`]: under PostgreSQL's advisory lock, or on SQLite with its
+//!   write lock taken at `BEGIN IMMEDIATE`, so no statement order has to take it (and no
+//!   read-to-write upgrade can fail on a busy database). A worker's outcome is a plain
+//!   transaction whose fenced write comes first.
 //!
 //! Generic functions rather than a macro: sqlx's bounds on what a driver can bind and
 //! run are stated once ([`statement::Statements`]); the shared code only names
@@ -31,7 +36,7 @@ pub(super) mod rows;
 mod statement;
 mod studies;
 
-pub use backend::Backend;
+pub use backend::{pool_options, Backend};
 
 use super::contract::{Store, StoreError};
 use super::model::*;

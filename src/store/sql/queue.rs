@@ -4,10 +4,22 @@
 
 use super::backend::{lease_clock, Backend};
 use super::rows::*;
-use super::statement::{BindParam, RowsAffected};
+use super::statement::{BindParam, RowsAffected, Statement};
 use crate::store::contract::StoreError;
 use crate::store::model::*;
 use sqlx::Pool;
+
+/// The row a lease still holds: the job it claimed, at the attempt it claimed, still
+/// running. `$1..$3` are bound by [`fenced`].
+const HELD: &str = "id = $1 AND owner = $2 AND attempt = $3 AND state = 'running'";
+
+/// A worker's write (`sql` with [`HELD`] in its `WHERE`), bound to its lease.
+fn fenced<'q, B: Backend>(sql: &'q str, lease: &'q Lease) -> Statement<'q, B> {
+    sqlx::query(sql)
+        .param(&lease.id)
+        .param(&lease.owner)
+        .param(lease.attempt)
+}
 
 /// The job the next claim takes (its `seq`): the oldest queued one whose input format
 /// is at most `$4`, locked as the backend needs ([`Backend::CLAIM_LOCK`]). The one place
@@ -56,22 +68,19 @@ pub(super) async fn heartbeat<B: Backend>(
     } else {
         0.0
     };
-    let row = sqlx::query(&format!(
+    let sql = format!(
         "UPDATE jobs SET lease_expires_at = {clock} + $4, progress = {greatest}(progress, $5), updated_at = $6, \
              version = version + (CASE WHEN progress < $5 THEN 1 ELSE 0 END) \
-         WHERE id = $1 AND owner = $2 AND attempt = $3 AND state = 'running' \
-         RETURNING cancel_requested",
+         WHERE {HELD} RETURNING cancel_requested",
         clock = lease_clock::<B>("$6"),
         greatest = B::GREATEST,
-    ))
-    .param(&lease.id)
-    .param(&lease.owner)
-    .param(lease.attempt)
-    .param(lease_ms)
-    .param(progress)
-    .param(now)
-    .fetch_optional(B::on_pool(pool))
-    .await?;
+    );
+    let row = fenced::<B>(&sql, lease)
+        .param(lease_ms)
+        .param(progress)
+        .param(now)
+        .fetch_optional(B::on_pool(pool))
+        .await?;
     match row {
         Some(r) => Ok(Heartbeat {
             cancel_requested: r.flag("cancel_requested")?,
@@ -90,23 +99,21 @@ pub(super) async fn finish<B: Backend>(
     let mut tx = pool.begin().await?;
     // The fenced write first: it locks the row (PostgreSQL) or takes the write lock
     // (SQLite) until commit.
-    let n = sqlx::query(
+    let sql = format!(
         "UPDATE jobs SET state = $4, progress = COALESCE($5, progress), error = $6, stats = $7, result = $8, \
              finished_at = $9, updated_at = $9, owner = NULL, lease_expires_at = NULL, version = version + 1 \
-         WHERE id = $1 AND owner = $2 AND attempt = $3 AND state = 'running'",
-    )
-    .param(&lease.id)
-    .param(&lease.owner)
-    .param(lease.attempt)
-    .param(state)
-    .param(progress)
-    .param(error)
-    .param(stats)
-    .param(result)
-    .param(now)
-    .execute(B::on(&mut *tx))
-    .await?
-    .rows_affected();
+         WHERE {HELD}"
+    );
+    let n = fenced::<B>(&sql, lease)
+        .param(state)
+        .param(progress)
+        .param(error)
+        .param(stats)
+        .param(result)
+        .param(now)
+        .execute(B::on(&mut *tx))
+        .await?
+        .rows_affected();
     if n == 0 {
         tx.rollback().await?;
         return Err(StoreError::LeaseLost);
@@ -128,18 +135,16 @@ pub(super) async fn finish<B: Backend>(
 }
 
 pub(super) async fn release<B: Backend>(pool: &Pool<B>, lease: &Lease) -> Result<(), StoreError> {
-    let n = sqlx::query(
+    let sql = format!(
         "UPDATE jobs SET state = 'queued', owner = NULL, lease_expires_at = NULL, attempt = attempt - 1, \
              updated_at = $4, version = version + 1 \
-         WHERE id = $1 AND owner = $2 AND attempt = $3 AND state = 'running'",
-    )
-    .param(&lease.id)
-    .param(&lease.owner)
-    .param(lease.attempt)
-    .param(now_ms())
-    .execute(B::on_pool(pool))
-    .await?
-    .rows_affected();
+         WHERE {HELD}"
+    );
+    let n = fenced::<B>(&sql, lease)
+        .param(now_ms())
+        .execute(B::on_pool(pool))
+        .await?
+        .rows_affected();
     if n == 0 {
         return Err(StoreError::LeaseLost);
     }

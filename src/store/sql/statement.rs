@@ -20,70 +20,29 @@ pub enum Param<'q> {
     Bytes(Option<&'q [u8]>),
 }
 
-impl<'q> From<&'q str> for Param<'q> {
-    fn from(v: &'q str) -> Self {
-        Param::Text(Some(Cow::Borrowed(v)))
-    }
+/// `From` a value (or an `Option` of it, for NULL) of each kind bound.
+macro_rules! param_from {
+    ($($t:ty => |$v:ident| $param:expr;)*) => {
+        $(impl<'q> From<$t> for Param<'q> {
+            fn from($v: $t) -> Self {
+                $param
+            }
+        })*
+    };
 }
 
-impl<'q> From<&'q String> for Param<'q> {
-    fn from(v: &'q String) -> Self {
-        Param::Text(Some(Cow::Borrowed(v)))
-    }
-}
-
-impl From<String> for Param<'_> {
-    fn from(v: String) -> Self {
-        Param::Text(Some(Cow::Owned(v)))
-    }
-}
-
-impl<'q> From<Option<&'q str>> for Param<'q> {
-    fn from(v: Option<&'q str>) -> Self {
-        Param::Text(v.map(Cow::Borrowed))
-    }
-}
-
-impl From<Option<String>> for Param<'_> {
-    fn from(v: Option<String>) -> Self {
-        Param::Text(v.map(Cow::Owned))
-    }
-}
-
-impl From<i64> for Param<'_> {
-    fn from(v: i64) -> Self {
-        Param::Int(Some(v))
-    }
-}
-
-impl From<Option<i64>> for Param<'_> {
-    fn from(v: Option<i64>) -> Self {
-        Param::Int(v)
-    }
-}
-
-impl From<f64> for Param<'_> {
-    fn from(v: f64) -> Self {
-        Param::Real(Some(v))
-    }
-}
-
-impl From<Option<f64>> for Param<'_> {
-    fn from(v: Option<f64>) -> Self {
-        Param::Real(v)
-    }
-}
-
-impl<'q> From<&'q [u8]> for Param<'q> {
-    fn from(v: &'q [u8]) -> Self {
-        Param::Bytes(Some(v))
-    }
-}
-
-impl<'q> From<Option<&'q [u8]>> for Param<'q> {
-    fn from(v: Option<&'q [u8]>) -> Self {
-        Param::Bytes(v)
-    }
+param_from! {
+    &'q str => |v| Param::Text(Some(Cow::Borrowed(v)));
+    &'q String => |v| Param::Text(Some(Cow::Borrowed(v)));
+    String => |v| Param::Text(Some(Cow::Owned(v)));
+    Option<&'q str> => |v| Param::Text(v.map(Cow::Borrowed));
+    Option<String> => |v| Param::Text(v.map(Cow::Owned));
+    i64 => |v| Param::Int(Some(v));
+    Option<i64> => |v| Param::Int(v);
+    f64 => |v| Param::Real(Some(v));
+    Option<f64> => |v| Param::Real(v);
+    &'q [u8] => |v| Param::Bytes(Some(v));
+    Option<&'q [u8]> => |v| Param::Bytes(v);
 }
 
 /// A sqlx statement on `DB` with its arguments.

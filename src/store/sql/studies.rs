@@ -79,13 +79,15 @@ pub(super) async fn create<B: Backend>(
             by_key.insert(p.scene_key.clone(), id.clone());
             id
         };
-        sqlx::query("INSERT INTO study_points (study_id, idx, job_id, spec) VALUES ($1, $2, $3, $4)")
-            .param(&study.id)
-            .param(idx as i64)
-            .param(&job_id)
-            .param(p.spec.to_string())
-            .execute(B::on(&mut *tx))
-            .await?;
+        sqlx::query(
+            "INSERT INTO study_points (study_id, idx, job_id, spec) VALUES ($1, $2, $3, $4)",
+        )
+        .param(&study.id)
+        .param(idx as i64)
+        .param(&job_id)
+        .param(p.spec.to_string())
+        .execute(B::on(&mut *tx))
+        .await?;
     }
     if queued > 0 && waiting + queued as i64 > max_queued {
         tx.rollback().await?;
@@ -100,11 +102,13 @@ pub(super) async fn create<B: Backend>(
 }
 
 pub(super) async fn get<B: Backend>(pool: &Pool<B>, id: &str) -> Result<Study, StoreError> {
-    let row = sqlx::query(&format!("SELECT {STUDY_COLUMNS} FROM studies WHERE id = $1"))
-        .param(id)
-        .fetch_optional(B::on_pool(pool))
-        .await?
-        .ok_or_else(|| StoreError::StudyNotFound(id.to_string()))?;
+    let row = sqlx::query(&format!(
+        "SELECT {STUDY_COLUMNS} FROM studies WHERE id = $1"
+    ))
+    .param(id)
+    .fetch_optional(B::on_pool(pool))
+    .await?
+    .ok_or_else(|| StoreError::StudyNotFound(id.to_string()))?;
     let mut study = study_from_row(&row)?;
     study.points = points(pool, id).await?;
     Ok(study)
