@@ -1,14 +1,14 @@
 //! Rows to model types, for both backends: a backend says how to read one column of each
 //! kind ([`Columns`]); what a job, study or artifact is made of is written once here.
 
-use super::contract::StoreError;
-use super::model::*;
+use crate::store::contract::StoreError;
+use crate::store::model::*;
 use sqlx::postgres::PgRow;
 use sqlx::sqlite::SqliteRow;
 use sqlx::Row;
 
 /// One column of a row by name, as the few kinds the store uses.
-pub(super) trait Columns {
+pub trait Columns {
     fn text(&self, col: &str) -> Result<String, sqlx::Error>;
     fn opt_text(&self, col: &str) -> Result<Option<String>, sqlx::Error>;
     fn int(&self, col: &str) -> Result<i64, sqlx::Error>;
