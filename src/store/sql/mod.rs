@@ -10,7 +10,7 @@
 //! Why it can be written once:
 //! - Placeholders are `$N` in both. sqlx's SQLite driver binds a parameter named `$N` to
 //!   the N-th bound value, by its name (sqlx-sqlite `arguments.rs`), so a value used twice
-//!   is bound once, as on PostgreSQL; the contract suite (`tests/store_contract.rs`) runs
+//!   is bound once, as on PostgreSQL; the contract suite (`tests/service/store_contract.rs`) runs
 //!   every statement on both.
 //! - The rest is SQL both accept: `TRUE` and `NOT flag` (SQLite stores its flags as 0/1
 //!   and reads `TRUE` as 1), `CAST(... AS TEXT)` where PostgreSQL must know a parameter's
