@@ -26,6 +26,7 @@ impl ErrorNorm {
     /// The norm of the estimate `err` of a step from `y` to `y_new` (accept when <= 1).
     pub fn rms(&self, y: &[f64], y_new: &[f64], err: &[f64]) -> f64 {
         let n = y.len();
+        assert!(y_new.len() == n && err.len() == n && self.scale.len() == n);
         let mut sum = 0.0;
         for i in 0..n {
             let mag = if self.unbounded[i] {

@@ -3,10 +3,6 @@
 //! tableau's error estimate, the [`ErrorNorm`] and the [`Controller`]. It owns every
 //! buffer: a step does not allocate.
 
-// The stage formulas index the state and the stages at one component; an index reads like
-// the formula, and zipping the slices would not.
-#![allow(clippy::needless_range_loop)]
-
 use super::controller::Controller;
 use super::error_norm::ErrorNorm;
 use super::method::Method;
@@ -30,14 +26,28 @@ impl Combination {
         }
     }
 
-    /// `sum_j num_j k_j` at component `i`.
-    #[inline]
-    fn sum(&self, k: &[Vec<f64>], i: usize) -> f64 {
-        let mut acc = self.start;
-        for &(j, w) in &self.terms {
-            acc += w * k[j][i];
+    /// `out = sum_j num_j k_j`, each component summed in term order (a pass per term
+    /// keeps every loop a plain, vectorisable one over the components).
+    fn sum_into(&self, k: &[Vec<f64>], out: &mut [f64]) {
+        let Some((&(j0, w0), rest)) = self.terms.split_first() else {
+            out.fill(self.start);
+            return;
+        };
+        for (o, kj) in out.iter_mut().zip(&k[j0]) {
+            *o = self.start + w0 * kj;
         }
-        acc
+        for &(j, w) in rest {
+            for (o, kj) in out.iter_mut().zip(&k[j]) {
+                *o += w * kj;
+            }
+        }
+    }
+}
+
+/// `out = y + hd * out`.
+fn advance(y: &[f64], hd: f64, out: &mut [f64]) {
+    for (o, yi) in out.iter_mut().zip(y) {
+        *o = yi + hd * *o;
     }
 }
 
@@ -140,41 +150,36 @@ impl ExplicitRk {
         t_end: f64,
         stats: &mut StepStats,
     ) -> f64 {
-        let n = y.len();
         let s = self.c.len();
         self.k[0].copy_from_slice(f0);
         for st in 1..s {
             let row = &self.rows[st];
-            let hd = h / row.den;
-            for i in 0..n {
-                self.tmp[i] = y[i] + hd * row.sum(&self.k, i);
-            }
+            row.sum_into(&self.k, &mut self.tmp);
+            advance(y, h / row.den, &mut self.tmp);
             sys.rhs(t + self.c[st] * h, &self.tmp, &mut self.k[st]);
             stats.rhs_evals += 1;
         }
+        // y_new holds sum b_j k_j until it is advanced
+        self.b.sum_into(&self.k, &mut self.y_new);
         let hb = h / self.b.den;
         let Some(ctl) = &self.control else {
-            for i in 0..n {
-                self.y_new[i] = y[i] + hb * self.b.sum(&self.k, i);
-            }
+            advance(y, hb, &mut self.y_new);
             return 0.0;
         };
         let he = h / ctl.estimate.den;
         if ctl.fsal {
-            for i in 0..n {
-                self.y_new[i] = y[i] + hb * self.b.sum(&self.k, i);
-            }
+            advance(y, hb, &mut self.y_new);
             sys.rhs_at_step_end(t_end, &self.y_new, &mut self.k[s]);
             stats.rhs_evals += 1;
-            for i in 0..n {
-                self.err[i] = he * ctl.estimate.sum(&self.k, i);
-            }
+            ctl.estimate.sum_into(&self.k, &mut self.err);
+            self.err.iter_mut().for_each(|e| *e *= he);
         } else {
-            for i in 0..n {
-                let d = self.b.sum(&self.k, i);
-                self.y_new[i] = y[i] + hb * d;
-                self.err[i] = he * (ctl.estimate.sum(&self.k, i) - d);
+            // (h / den) (sum b_hat_j k_j - sum b_j k_j), before y_new is advanced
+            ctl.estimate.sum_into(&self.k, &mut self.err);
+            for (e, d) in self.err.iter_mut().zip(&self.y_new) {
+                *e = he * (*e - d);
             }
+            advance(y, hb, &mut self.y_new);
         }
         ctl.norm.rms(y, &self.y_new, &self.err)
     }
@@ -211,6 +216,8 @@ impl<S: OdeSystem> Method<S> for ExplicitRk {
 }
 
 #[cfg(test)]
+// The reference formulas index the state and the stages at one component, as written.
+#[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
     use crate::ode::tableau::{CASH_KARP, CLASSICAL_RK4, RK4_FSAL};

@@ -4,6 +4,8 @@
 
 // the tableau keeps the digits as published
 #![allow(clippy::excessive_precision)]
+// the transformation indexes rows and columns as the matrix formulas do
+#![allow(clippy::needless_range_loop)]
 
 /// Stages.
 pub const S: usize = 4;
