@@ -49,6 +49,8 @@ const LAYERS: &[Layers] = &[
             ("json_float", 0),
             // Merge patches and pointer assignments on scene documents (requests, designs).
             ("json_doc", 0),
+            // The generic ODE solver: nothing of the engine below it but json_float.
+            ("ode", 1),
             ("scene", 1),
             ("physics", 2),
             // Signal analysis knows bearings (scene) and nothing of the models.
@@ -68,7 +70,15 @@ const LAYERS: &[Layers] = &[
             (ROOT, 10),
         ],
         allowed: &[],
-        forbidden: &[],
+        // The ODE module is generic whatever the ranks say: it never imports the bearing.
+        forbidden: &[
+            ("ode", "scene"),
+            ("ode", "physics"),
+            ("ode", "signal"),
+            ("ode", "model"),
+            ("ode", "quasi_static"),
+            ("ode", "dynamics"),
+        ],
     },
     Layers {
         krate: "service",

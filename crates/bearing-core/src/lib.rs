@@ -8,6 +8,9 @@
 //! - [`json_float`]: NaN-tolerant float fields in JSON (a helper every layer may use).
 //! - [`json_doc`]: merge patches (RFC 7396) and JSON-pointer assignments (RFC 6901) on
 //!   scene documents (study designs and requests that patch a preset).
+//! - [`ode`]: a generic solver of initial value problems (problem, methods as tableau
+//!   data, one step-size controller and error norm, the solver loop); it knows nothing of
+//!   bearings.
 //! - [`scene`]: the input (geometry, materials, lubricant, operating point, faults, solver),
 //!   validation into a [`scene::ValidScene`], presets.
 //! - [`physics`]: frames, contact geometry, Hertz, traction, cage interactions, defects,
@@ -16,8 +19,9 @@
 //!   the state vector.
 //! - [`quasi_static`]: Jones-Harris equilibrium (reference solution and the dynamic
 //!   initial state).
-//! - [`dynamics`]: equations of motion, integrators, output sampling and averages (it does
-//!   not know the quasi-static solver: it starts from a state vector it is given).
+//! - [`dynamics`]: the bearing's equations of motion as a problem for [`ode`], the run
+//!   loop, output sampling and averages (it does not know the quasi-static solver: it
+//!   starts from a state vector it is given).
 //! - [`simulation`]: one call from a valid scene to a result.
 //! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification. It
 //!   knows bearings (scene) but nothing of simulations.
@@ -32,6 +36,7 @@ pub mod dynamics;
 pub mod json_doc;
 pub mod json_float;
 pub mod model;
+pub mod ode;
 pub mod physics;
 pub mod quasi_static;
 pub mod scene;

@@ -4,14 +4,13 @@
 //! nothing deeper.
 
 use crate::dynamics::run::integrate;
-use crate::dynamics::DynError;
 use crate::model::Model;
+use crate::ode::error::SolveError;
 use crate::quasi_static::{initial_state, solve_model, QsError};
 use crate::scene::{FieldError, ValidScene, ValidationErrors};
 
-pub use crate::dynamics::{
-    BallSummary, Channel, Channels, RunControl, SimResult, SolverStats, Summary,
-};
+pub use crate::dynamics::{BallSummary, Channel, Channels, SimResult, SolverStats, Summary};
+pub use crate::ode::control::RunControl;
 
 /// Why a run did not produce a result.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -21,12 +20,12 @@ pub enum SimError {
     InitialState(#[from] QsError),
     /// The integration stopped: cancelled, step-size underflow or a non-finite state.
     #[error(transparent)]
-    Dynamics(#[from] DynError),
+    Dynamics(#[from] SolveError),
 }
 
 impl SimError {
     pub fn is_cancelled(&self) -> bool {
-        matches!(self, SimError::Dynamics(DynError::Cancelled { .. }))
+        matches!(self, SimError::Dynamics(SolveError::Cancelled { .. }))
     }
 }
 

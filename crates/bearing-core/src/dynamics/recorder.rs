@@ -3,11 +3,11 @@
 //! when asked for, one ball's contact loads) evaluated there.
 
 use super::ball_equilibrium::BalanceTrack;
-use super::integrator::hermite;
 use super::output::{Channel, Channels};
 use super::rhs::output_forces;
 use crate::model::layout::{ball, cage};
 use crate::model::Model;
+use crate::ode::hermite::hermite;
 use crate::scene::Outputs;
 
 /// Which channels to record and how.

@@ -520,9 +520,11 @@ pub fn rhs_tracked(
 mod tests {
     use super::*;
     use crate::dynamics::error_scale::scales;
-    use crate::dynamics::integrator::FsalRk4;
-    use crate::dynamics::solver::{Solver, StepLimits};
     use crate::dynamics::system::BearingSystem;
+    use crate::ode::error_norm::ErrorNorm;
+    use crate::ode::explicit_rk::ExplicitRk;
+    use crate::ode::solver::{Solver, StepLimits};
+    use crate::ode::tableau::RK4_FSAL;
     use crate::quasi_static::{initial_state, solve_model};
     use crate::scene::{fault_case_scene, CageGuidance, FaultCase, Fidelity};
 
@@ -533,7 +535,8 @@ mod tests {
         let (scale, phase) = scales(m);
         let n = m.layout.len;
         let mut sys = BearingSystem::new(m, &scale);
-        let method = FsalRk4::new(n, 1e-5, 1e-5, scale.clone(), phase);
+        let norm = ErrorNorm::new(1e-5, 1e-5, scale.clone(), phase);
+        let method = ExplicitRk::adaptive(&RK4_FSAL, n, norm);
         let limits = StepLimits {
             t_end,
             initial_step: 1e-5,

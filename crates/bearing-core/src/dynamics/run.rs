@@ -1,19 +1,22 @@
 //! The run loop: the chosen method under the solver, output sampling, steady-window
 //! averages, progress and cancellation.
 
-use super::auto_switch::AutoSwitch;
 use super::averages::Averages;
-use super::control::RunControl;
-use super::error::DynError;
 use super::error_scale::scales;
-use super::integrator::{AdaptiveRk4, FixedRk4, FsalRk4, Method};
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
-use super::rosenbrock::Rosenbrock;
-use super::solver::{Solver, StepLimits};
 use super::system::{bearing_jacobian, BearingSystem};
 use super::window::steady_window;
 use crate::model::Model;
+use crate::ode::auto_switch::AutoSwitch;
+use crate::ode::control::RunControl;
+use crate::ode::error::SolveError;
+use crate::ode::error_norm::ErrorNorm;
+use crate::ode::explicit_rk::ExplicitRk;
+use crate::ode::method::Method;
+use crate::ode::rosenbrock::Rosenbrock;
+use crate::ode::solver::{Solver, StepLimits};
+use crate::ode::tableau::{CASH_KARP, CLASSICAL_RK4, RK4_FSAL};
 use crate::scene::{Integrator, ValidScene};
 use std::sync::atomic::Ordering;
 use std::time::Instant;
@@ -24,7 +27,7 @@ pub fn integrate(
     scene: &ValidScene,
     y0: Vec<f64>,
     ctl: RunControl<'_>,
-) -> Result<SimResult, DynError> {
+) -> Result<SimResult, SolveError> {
     let sv = &scene.solver;
     let n = m.layout.len;
     let (scale, phase) = scales(m);
@@ -35,32 +38,33 @@ pub fn integrate(
         max_step: sv.max_step,
         min_step: 1e-14_f64.max(sv.duration * 1e-13),
     };
-    let (rtol, atol) = (sv.rtol, sv.atol);
+    // the bearing's natural sizes scale the error norm (and the Jacobian's differences)
+    let norm = ErrorNorm::new(sv.rtol, sv.atol, scale.clone(), phase);
     // one monomorphised loop per method
     match sv.integrator {
         Integrator::Rk4Adaptive => {
-            let method = AdaptiveRk4::new(n, rtol, atol, scale.clone(), phase);
+            let method = ExplicitRk::adaptive(&CASH_KARP, n, norm);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::Rk4Fixed => {
-            let solver = Solver::new(&mut sys, FixedRk4::new(n), y0, limits);
+            let method = ExplicitRk::fixed(&CLASSICAL_RK4, n);
+            let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::Rk4Fsal => {
-            let method = FsalRk4::new(n, rtol, atol, scale.clone(), phase);
+            let method = ExplicitRk::adaptive(&RK4_FSAL, n, norm);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::Auto => {
-            let explicit = FsalRk4::new(n, rtol, atol, scale.clone(), phase.clone());
-            let implicit =
-                Rosenbrock::new(n, rtol, atol, scale.clone(), phase, bearing_jacobian(m));
+            let explicit = ExplicitRk::adaptive(&RK4_FSAL, n, norm.clone());
+            let implicit = Rosenbrock::new(n, norm, bearing_jacobian(m));
             let solver = Solver::new(&mut sys, AutoSwitch::new(explicit, implicit), y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::RosenbrockW => {
-            let method = Rosenbrock::new(n, rtol, atol, scale.clone(), phase, bearing_jacobian(m));
+            let method = Rosenbrock::new(n, norm, bearing_jacobian(m));
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
@@ -72,7 +76,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
     sys: &mut BearingSystem<'m>,
     scene: &ValidScene,
     ctl: RunControl<'_>,
-) -> Result<SimResult, DynError> {
+) -> Result<SimResult, SolveError> {
     let RunControl {
         cancel,
         mut progress,
@@ -98,7 +102,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
     while !solver.finished() {
         if let Some(c) = cancel {
             if c.load(Ordering::Relaxed) {
-                return Err(DynError::Cancelled { at: solver.t() });
+                return Err(SolveError::Cancelled { at: solver.t() });
             }
         }
         solver.step(sys)?;

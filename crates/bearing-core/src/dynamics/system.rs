@@ -1,13 +1,12 @@
-//! The bearing model as an ODE system for the integrators.
+//! The bearing model as a problem for the generic ODE solver ([`crate::ode`]).
 
 use super::ball_equilibrium::BalanceTrack;
-use super::block_jacobian::{difference_step, BlockJacobian};
-use super::integrator::OdeSystem;
 use super::rhs::{self, rhs_tracked, Diagnostics};
-use super::rosenbrock::JacobianSystem;
 use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
+use crate::ode::block_jacobian::{difference_step, BlockJacobian};
+use crate::ode::problem::{JacobianSystem, OdeSystem};
 
 /// The model as an ODE system.
 pub struct BearingSystem<'m> {
@@ -96,8 +95,8 @@ impl OdeSystem for BearingSystem<'_> {
         }
     }
     /// No step carries a ball across a defect unseen (`defect_step_bound`).
-    fn max_step(&self, t: f64, y: &[f64]) -> f64 {
-        defect_step_bound(self.model, t, y)
+    fn step_limit(&self, t: f64, y: &[f64]) -> Option<f64> {
+        Some(defect_step_bound(self.model, t, y))
     }
 }
 

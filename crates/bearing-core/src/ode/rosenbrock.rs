@@ -1,5 +1,5 @@
-//! A linearly implicit Rosenbrock-W method for the stiff contact modes: ROS34PW2 of Rang
-//! and Angermann (BIT Numer. Math. 45, 2005), 4 stages, order 3 with an embedded order-2
+//! A linearly implicit Rosenbrock-W method for stiff problems: ROS34PW2 of Rang and
+//! Angermann (BIT Numer. Math. 45, 2005; [`super::rosenbrock_tableau`]), 4 stages, order 3 with an embedded order-2
 //! solution, L-stable and stiffly accurate, and a W-method: its order holds for any
 //! approximation of the Jacobian, here the block-diagonal one of
 //! [`super::block_jacobian`]. The time derivative of `f` is left out, which a W-method
@@ -13,168 +13,59 @@
 // The stage formulas index the state, the stages and the scales at one component; an
 // index reads like the formula, and zipping five slices would not.
 #![allow(clippy::needless_range_loop)]
-// the tableau keeps the digits as published
-#![allow(clippy::excessive_precision)]
 
 use super::block_jacobian::BlockJacobian;
-use super::integrator::{Method, OdeSystem, StepStats};
+use super::controller::Controller;
+use super::error_norm::ErrorNorm;
+use super::method::Method;
+use super::problem::JacobianSystem;
+use super::rosenbrock_tableau::{Tableau, S};
+use super::stats::StepStats;
 
-const S: usize = 4;
-const GAMMA: f64 = 4.358_665_215_084_590_0e-1;
-// Propagation table A (strictly lower), stage table Gamma (lower, GAMMA on the diagonal),
-// completion weights b and embedded weights b2, as published.
-const A: [[f64; S]; S] = [
-    [0.0; S],
-    [8.717_330_430_169_180_1e-1, 0.0, 0.0, 0.0],
-    [
-        8.445_706_001_536_942_3e-1,
-        -1.129_906_423_648_418_5e-1,
-        0.0,
-        0.0,
-    ],
-    [0.0, 0.0, 1.0, 0.0],
-];
-const G: [[f64; S]; S] = [
-    [GAMMA, 0.0, 0.0, 0.0],
-    [-8.717_330_430_169_180_1e-1, GAMMA, 0.0, 0.0],
-    [
-        -9.033_805_701_304_408_2e-1,
-        5.418_067_238_809_532_6e-2,
-        GAMMA,
-        0.0,
-    ],
-    [
-        2.421_238_070_609_534_6e-1,
-        -1.223_250_583_904_514_7,
-        5.452_602_553_351_021_4e-1,
-        GAMMA,
-    ],
-];
-const B: [f64; S] = [
-    2.421_238_070_609_534_6e-1,
-    -1.223_250_583_904_514_7,
-    1.545_260_255_335_102_0,
-    GAMMA,
-];
-const B2: [f64; S] = [
-    3.781_090_314_581_936_9e-1,
-    -9.604_229_221_242_317_8e-2,
-    0.5,
-    2.179_332_607_542_295_0e-1,
-];
-
-/// The tableau in transformed variables.
-#[derive(Debug, Clone, Copy)]
-pub struct Tableau {
-    /// Stage abscissae, row sums of A.
-    pub alpha: [f64; S],
-    /// `A Gamma^-1`, strictly lower.
-    pub a: [[f64; S]; S],
-    /// `diag(1/gamma) - Gamma^-1`, strictly lower.
-    pub c: [[f64; S]; S],
-    /// `b Gamma^-1`.
-    pub m: [f64; S],
-    /// `(b - b2) Gamma^-1`: the error estimate's weights.
-    pub e: [f64; S],
-}
-
-impl Tableau {
-    pub fn ros34pw2() -> Tableau {
-        // inverse of the lower-triangular Gamma by forward substitution
-        let mut gi = [[0.0; S]; S];
-        for col in 0..S {
-            for row in col..S {
-                let mut v = if row == col { 1.0 } else { 0.0 };
-                for k in col..row {
-                    v -= G[row][k] * gi[k][col];
-                }
-                gi[row][col] = v / G[row][row];
-            }
-        }
-        let mut t = Tableau {
-            alpha: [0.0; S],
-            a: [[0.0; S]; S],
-            c: [[0.0; S]; S],
-            m: [0.0; S],
-            e: [0.0; S],
-        };
-        for i in 0..S {
-            t.alpha[i] = A[i].iter().sum();
-            for j in 0..S {
-                t.a[i][j] = (0..S).map(|k| A[i][k] * gi[k][j]).sum();
-                if j < i {
-                    t.c[i][j] = -gi[i][j];
-                }
-            }
-            t.m[i] = (0..S).map(|k| B[k] * gi[k][i]).sum();
-            t.e[i] = (0..S).map(|k| (B[k] - B2[k]) * gi[k][i]).sum();
-        }
-        t
-    }
-}
-
-/// A system that can also fill a block-diagonal Jacobian approximation.
-pub trait JacobianSystem: OdeSystem {
-    /// Fill `jac` at `(t, y)` with `f0 = f(t, y)`; returns what that cost, in right-hand
-    /// side evaluations (for the statistics).
-    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64;
-    /// Accepted steps one Jacobian may serve (a W-method keeps its order with any
-    /// approximation; a cheap partial Jacobian is best kept fresh).
-    fn jacobian_max_age(&self) -> u32 {
-        20
-    }
-}
-
-/// Buffers, tolerances and Jacobian bookkeeping of the Rosenbrock-W stepper.
+/// Buffers, error control and Jacobian bookkeeping of the Rosenbrock-W stepper.
 pub struct Rosenbrock {
     tab: Tableau,
     u: [Vec<f64>; S],
     tmp: Vec<f64>,
     f: Vec<f64>,
-    /// Proposed new state after [`Rosenbrock::attempt`].
-    pub y_new: Vec<f64>,
-    pub rtol: f64,
-    pub atol: f64,
-    pub scale: Vec<f64>,
-    pub phase: Vec<bool>,
+    /// Proposed new state after [`Rosenbrock::attempt_step`].
+    y_new: Vec<f64>,
+    /// Local error estimate of the last attempt, per component.
+    err: Vec<f64>,
+    norm: ErrorNorm,
+    controller: Controller,
     pub jac: BlockJacobian,
     /// Accepted steps since the Jacobian was evaluated.
     jac_age: u32,
     /// Re-evaluate the Jacobian after this many accepted steps.
     pub jac_max_age: u32,
-    fresh_after_reject: bool,
     factored_for: f64,
-    prev_err: f64,
-    just_rejected: bool,
 }
 
 impl Rosenbrock {
-    pub fn new(
-        n: usize,
-        rtol: f64,
-        atol: f64,
-        scale: Vec<f64>,
-        phase: Vec<bool>,
-        jac: BlockJacobian,
-    ) -> Self {
+    /// A stepper over `n` components measuring its error with `norm`, with the Jacobian
+    /// storage `jac` the problem fills.
+    pub fn new(n: usize, norm: ErrorNorm, jac: BlockJacobian) -> Self {
         Rosenbrock {
             tab: Tableau::ros34pw2(),
             u: std::array::from_fn(|_| vec![0.0; n]),
             tmp: vec![0.0; n],
             f: vec![0.0; n],
             y_new: vec![0.0; n],
-            rtol,
-            atol,
-            scale,
-            phase,
+            err: vec![0.0; n],
+            norm,
+            // the estimate (order 2 against order 3) scales as h^3
+            controller: Controller::new(3),
             jac,
             jac_age: u32::MAX,
             jac_max_age: 20,
-            fresh_after_reject: false,
             factored_for: f64::NAN,
-            prev_err: 1.0,
-            just_rejected: false,
         }
+    }
+
+    /// The proposed state of the last attempt.
+    pub fn y_new(&self) -> &[f64] {
+        &self.y_new
     }
 
     /// One attempted step from `(t, y)` with `f0 = f(t, y)`. Leaves the 3rd-order result
@@ -194,7 +85,7 @@ impl Rosenbrock {
             self.jac_age = 0;
             self.factored_for = f64::NAN;
         }
-        if self.factored_for != h && !self.jac.factor(h * GAMMA) {
+        if self.factored_for != h && !self.jac.factor(h * self.tab.gamma) {
             // the factors are partly for this h now: refactor whatever comes next
             self.factored_for = f64::NAN;
             return f64::INFINITY;
@@ -228,7 +119,6 @@ impl Rosenbrock {
             }
             self.jac.solve(ui);
         }
-        let mut sum = 0.0;
         for k in 0..n {
             let mut yn = y[k];
             let mut err = 0.0;
@@ -237,16 +127,9 @@ impl Rosenbrock {
                 err += tab.e[i] * self.u[i][k];
             }
             self.y_new[k] = yn;
-            let mag = if self.phase[k] {
-                self.scale[k]
-            } else {
-                y[k].abs().max(yn.abs())
-            };
-            let sc = self.atol * self.scale[k] + self.rtol * mag;
-            let e = err / sc;
-            sum += e * e;
+            self.err[k] = err;
         }
-        let err = (sum / n as f64).sqrt();
+        let err = self.norm.rms(y, &self.y_new, &self.err);
         #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN error counts as a rejection
         if !(err <= 1.0) && self.jac_age > 0 {
             // a rejection with an aged Jacobian: refresh before the retry
@@ -260,28 +143,15 @@ impl Rosenbrock {
         self.jac_age = u32::MAX;
     }
 
-    /// Step-size factor after an accepted step (PI controller, error ~ h^3).
+    /// Step-size factor after an accepted step; the Jacobian has served one more step.
     pub fn accept_factor(&mut self, err: f64) -> f64 {
         self.jac_age = self.jac_age.saturating_add(1);
-        self.fresh_after_reject = false;
-        let e = err.max(1e-10);
-        let mut f = 0.9 * e.powf(-0.7 / 3.0) * self.prev_err.powf(0.4 / 3.0);
-        if self.just_rejected {
-            f = f.min(1.0);
-        }
-        self.prev_err = e;
-        self.just_rejected = false;
-        f.clamp(0.2, 4.0)
+        self.controller.accept_factor(err)
     }
 
     /// Step-size factor after a rejected step.
     pub fn reject_factor(&mut self, err: f64) -> f64 {
-        self.just_rejected = true;
-        if err.is_finite() {
-            (0.9 * err.powf(-1.0 / 3.0)).clamp(0.2, 0.9)
-        } else {
-            0.1
-        }
+        self.controller.reject_factor(err)
     }
 }
 
@@ -299,7 +169,7 @@ impl<S: JacobianSystem> Method<S> for Rosenbrock {
         self.attempt_step(sys, t, y, f0, h, stats)
     }
     fn y_new(&self) -> &[f64] {
-        &self.y_new
+        Rosenbrock::y_new(self)
     }
     fn accept_factor(&mut self, err: f64) -> f64 {
         Rosenbrock::accept_factor(self, err)
@@ -312,6 +182,7 @@ impl<S: JacobianSystem> Method<S> for Rosenbrock {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ode::problem::OdeSystem;
 
     /// y' = -y^2 + sin(t) style nonlinear scalar pair with an exact Jacobian-free check:
     /// the Van der Pol-free test here is y1' = y2, y2' = -y1 (oscillator) plus a stiff
@@ -340,7 +211,7 @@ mod tests {
     fn fixed_run(k: f64, h: f64, age: u32) -> [f64; 3] {
         let mut sys = Test { k };
         let jac = BlockJacobian::new(vec![0..2, 2..3], vec![vec![0, 2], vec![1]]);
-        let mut ros = Rosenbrock::new(3, 1.0, 1.0, vec![1.0; 3], vec![false; 3], jac);
+        let mut ros = Rosenbrock::new(3, ErrorNorm::new(1.0, 1.0, vec![1.0; 3], vec![false; 3]), jac);
         ros.jac_max_age = age;
         let mut st = StepStats::default();
         let mut y = vec![1.0, 0.0, 1.0];
@@ -351,7 +222,7 @@ mod tests {
             sys.rhs(t, &y, &mut f);
             ros.attempt_step(&mut sys, t, &y, &f.clone(), h, &mut st);
             ros.jac_age = ros.jac_age.saturating_add(1);
-            y.copy_from_slice(&ros.y_new);
+            y.copy_from_slice(ros.y_new());
         }
         [y[0] - 1f64.cos(), y[1] + 1f64.sin(), y[2]]
     }
@@ -397,7 +268,7 @@ mod tests {
     fn third_order_on_a_nonlinear_problem() {
         let err = |h: f64| {
             let jac = BlockJacobian::new(vec![0..1], vec![vec![0]]);
-            let mut ros = Rosenbrock::new(1, 1.0, 1.0, vec![1.0], vec![false], jac);
+            let mut ros = Rosenbrock::new(1, ErrorNorm::new(1.0, 1.0, vec![1.0], vec![false]), jac);
             ros.jac_max_age = 1;
             let mut st = StepStats::default();
             let (mut y, mut f) = (vec![0.1], vec![0.0]);
@@ -406,7 +277,7 @@ mod tests {
                 Logistic.rhs(s as f64 * h, &y, &mut f);
                 ros.attempt_step(&mut Logistic, s as f64 * h, &y, &f.clone(), h, &mut st);
                 ros.jac_age = ros.jac_age.saturating_add(1);
-                y.copy_from_slice(&ros.y_new);
+                y.copy_from_slice(ros.y_new());
             }
             (y[0] - 1.0 / (1.0 + 9.0 * (-2f64).exp())).abs()
         };

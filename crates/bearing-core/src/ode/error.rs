@@ -1,8 +1,8 @@
 //! Why an integration stopped before the end time.
 
-/// A run of the equations of motion that did not reach its end time.
+/// A solver run that did not reach its end time.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum DynError {
+pub enum SolveError {
     /// Stopped on request.
     #[error("cancelled at t = {at} s")]
     Cancelled {

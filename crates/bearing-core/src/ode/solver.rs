@@ -1,12 +1,14 @@
 //! The solver, kept apart from the problem (an [`OdeSystem`]) as in diffsol: it owns the
 //! state, accept and reject, the step-size control, landing on the end time and the
 //! dense output of the last step. A [`Method`] only proposes a step and says how far to
-//! grow or shrink the next; the problem bounds steps through [`OdeSystem::max_step`]
-//! (the defect transits) and evaluates the derivative. Nothing allocates after
-//! [`Solver::new`].
+//! grow or shrink the next; the problem bounds steps through [`OdeSystem::step_limit`]
+//! and evaluates the derivative. Nothing allocates after [`Solver::new`].
 
-use super::error::DynError;
-use super::integrator::{hermite, Method, OdeSystem, StepStats};
+use super::error::SolveError;
+use super::hermite::hermite;
+use super::method::Method;
+use super::problem::OdeSystem;
+use super::stats::StepStats;
 
 /// Step limits of a run, s.
 #[derive(Debug, Clone, Copy)]
@@ -15,7 +17,7 @@ pub struct StepLimits {
     /// First step of a controlled method, the only step of a fixed one.
     pub initial_step: f64,
     pub max_step: f64,
-    /// Below this the run fails with [`DynError::StepUnderflow`].
+    /// Below this the run fails with [`SolveError::StepUnderflow`].
     pub min_step: f64,
 }
 
@@ -106,7 +108,7 @@ impl<M> Solver<M> {
     }
 
     /// Advance by one accepted step (retrying rejected attempts) and return its size, s.
-    pub fn step<S: OdeSystem>(&mut self, sys: &mut S) -> Result<f64, DynError>
+    pub fn step<S: OdeSystem>(&mut self, sys: &mut S) -> Result<f64, SolveError>
     where
         M: Method<S>,
     {
@@ -115,7 +117,8 @@ impl<M> Solver<M> {
             let proposal = self.h;
             let remaining = lim.t_end - self.t;
             let mut h = if self.method.controlled() {
-                self.h.min(lim.max_step).min(sys.max_step(self.t, &self.y))
+                let h = self.h.min(lim.max_step);
+                sys.step_limit(self.t, &self.y).map_or(h, |l| h.min(l))
             } else {
                 lim.initial_step
             };
@@ -138,7 +141,7 @@ impl<M> Solver<M> {
                 self.stats.rejected += 1;
                 self.h = h * self.method.reject_factor(err);
                 if self.h < lim.min_step {
-                    return Err(DynError::StepUnderflow {
+                    return Err(SolveError::StepUnderflow {
                         time: self.t,
                         step: self.h,
                         min_step: lim.min_step,
@@ -179,7 +182,7 @@ impl<M> Solver<M> {
                 .chain(self.f.iter())
                 .position(|v| !v.is_finite())
             {
-                return Err(DynError::NonFinite {
+                return Err(SolveError::NonFinite {
                     time: t_new,
                     component: i % n,
                     len: n,
@@ -206,7 +209,9 @@ pub struct LastStep<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::integrator::{AdaptiveRk4, FixedRk4, FsalRk4};
+    use crate::ode::error_norm::ErrorNorm;
+    use crate::ode::explicit_rk::ExplicitRk;
+    use crate::ode::tableau::{CASH_KARP, CLASSICAL_RK4, RK4_FSAL};
 
     /// x'' = -x, with an optional step bound and a blow-up time.
     struct Osc {
@@ -225,8 +230,8 @@ mod tests {
                 -y[0]
             };
         }
-        fn max_step(&self, _t: f64, _y: &[f64]) -> f64 {
-            self.bound
+        fn step_limit(&self, _t: f64, _y: &[f64]) -> Option<f64> {
+            Some(self.bound)
         }
     }
 
@@ -249,7 +254,8 @@ mod tests {
     #[test]
     fn lands_on_the_end_time_and_interpolates() {
         let mut sys = osc(f64::INFINITY);
-        let method = AdaptiveRk4::new(2, 1e-8, 1e-8, vec![1.0; 2], vec![false; 2]);
+        let norm = ErrorNorm::new(1e-8, 1e-8, vec![1.0; 2], vec![false; 2]);
+        let method = ExplicitRk::adaptive(&CASH_KARP, 2, norm);
         let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(2.0));
         let mut mid = [0.0; 2];
         let mut worst: f64 = 0.0;
@@ -277,7 +283,8 @@ mod tests {
     #[test]
     fn the_problem_bounds_every_step() {
         let mut sys = osc(0.01);
-        let method = FsalRk4::new(2, 1e-3, 1e-3, vec![1.0; 2], vec![false; 2]);
+        let norm = ErrorNorm::new(1e-3, 1e-3, vec![1.0; 2], vec![false; 2]);
+        let method = ExplicitRk::adaptive(&RK4_FSAL, 2, norm);
         let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(1.0));
         while !s.finished() {
             let h = s.step(&mut sys).unwrap();
@@ -291,7 +298,8 @@ mod tests {
     #[test]
     fn a_fixed_method_takes_the_initial_step() {
         let mut sys = osc(f64::INFINITY);
-        let mut s = Solver::new(&mut sys, FixedRk4::new(2), vec![1.0, 0.0], limits(0.1));
+        let method = ExplicitRk::fixed(&CLASSICAL_RK4, 2);
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(0.1));
         while !s.finished() {
             s.step(&mut sys).unwrap();
         }
@@ -305,14 +313,15 @@ mod tests {
             bound: f64::INFINITY,
             blow_up_at: 0.05,
         };
-        let mut s = Solver::new(&mut sys, FixedRk4::new(2), vec![1.0, 0.0], limits(0.1));
+        let method = ExplicitRk::fixed(&CLASSICAL_RK4, 2);
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(0.1));
         let err = loop {
             if let Err(e) = s.step(&mut sys) {
                 break e;
             }
         };
         assert!(
-            matches!(err, DynError::NonFinite { component: 1, .. }),
+            matches!(err, SolveError::NonFinite { component: 1, .. }),
             "{err}"
         );
     }
@@ -323,13 +332,14 @@ mod tests {
             bound: f64::INFINITY,
             blow_up_at: 0.05,
         };
-        let method = AdaptiveRk4::new(2, 1e-6, 1e-6, vec![1.0; 2], vec![false; 2]);
+        let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 2], vec![false; 2]);
+        let method = ExplicitRk::adaptive(&CASH_KARP, 2, norm);
         let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(0.1));
         let err = loop {
             if let Err(e) = s.step(&mut sys) {
                 break e;
             }
         };
-        assert!(matches!(err, DynError::StepUnderflow { .. }), "{err}");
+        assert!(matches!(err, SolveError::StepUnderflow { .. }), "{err}");
     }
 }

@@ -2,12 +2,12 @@
 //! differences, and the factorisation of `I / (h gamma) - J` that a linearly implicit
 //! step solves with.
 //!
-//! Why block-diagonal: the stiff modes of the bearing are local to one body (a ball on
-//! its two race contacts, a ring on all its contacts, the cage on its film), so the
+//! Why block-diagonal: when the stiff modes are local to one body (in the bearing, a ball
+//! on its two race contacts, a ring on all its contacts, the cage on its film), the
 //! diagonal blocks carry the eigenvalues that limit an explicit step, while a
-//! Rosenbrock-W method stays consistent with any approximation of the Jacobian. The
-//! blocks are small (9 to 12 rows), so refactoring after every step-size change costs a
-//! few microseconds; nothing here allocates after construction.
+//! Rosenbrock-W method stays consistent with any approximation of the Jacobian. Small
+//! blocks (9 to 12 rows in the bearing) refactor after every step-size change in a few
+//! microseconds; nothing here allocates after construction.
 
 use std::ops::Range;
 

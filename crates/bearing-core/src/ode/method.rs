@@ -1,0 +1,37 @@
+//! What a one-step method offers the solver.
+
+use super::problem::OdeSystem;
+use super::stats::StepStats;
+
+/// A one-step method under the solver's control.
+pub trait Method<S: OdeSystem> {
+    /// Attempt one step from `(t, y)` with `f0 = f(t, y)` to `t_end = t + h` (exactly the
+    /// end time on the last step). Leaves the proposal for [`Method::y_new`] and returns
+    /// the scaled error norm: accept when <= 1; 0 for a method without error control.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &mut self,
+        sys: &mut S,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        t_end: f64,
+        stats: &mut StepStats,
+    ) -> f64;
+    /// The proposed state of the last attempt.
+    fn y_new(&self) -> &[f64];
+    /// `f(t + h, y_new)` when the attempt evaluated it (first same as last), through
+    /// [`OdeSystem::rhs_at_step_end`].
+    fn f_new(&self) -> Option<&[f64]> {
+        None
+    }
+    /// Factor for the next step after an accepted one.
+    fn accept_factor(&mut self, err: f64) -> f64;
+    /// Factor for the retry after a rejected one.
+    fn reject_factor(&mut self, err: f64) -> f64;
+    /// False for a fixed-step method: every step is the initial step.
+    fn controlled(&self) -> bool {
+        true
+    }
+}
