@@ -13,9 +13,8 @@ use crate::studies::charts::{draw, plot_names, row_keys, PointSpectrum};
 use crate::studies::scene_key;
 use bearing_core::json_doc::merge_patch;
 use bearing_core::scene::ValidScene;
-use bearing_core::signal::analysis::AnalysisOptions;
 use bearing_core::simulation::{simulate, RunControl};
-use bearing_core::simulation_analysis::analyze_simulation;
+use bearing_core::simulation_analysis::{diagnose_run, first_non_finite};
 use bearing_core::study::{
     plan, to_csv, DesignSpec, LineReading, NamedDesign, Plan, PointState, RunDigest, StudyBase,
     StudyRequest, StudyTable, StudyTableRow,
@@ -27,9 +26,6 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-
-/// Channels tried for the analysis, in order (as the service's simulation jobs do).
-const CHANNELS: [&str; 2] = ["outer_ring_accel_z", "outer_ring_accel_y"];
 
 /// Simulated time per point of the trend designs on the preset, s: 0.3 s at constant
 /// speed leaves a 0.225 s window (4.4 Hz bins) after the settling quarter.
@@ -194,9 +190,14 @@ fn read_request(path: &Path) -> Result<StudyRequest, String> {
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// What the run of one distinct scene gave.
+/// What the run of one distinct scene gave, as a study point's job would record it.
 struct Ran {
-    digest: Result<RunDigest, String>,
+    /// `Succeeded` when the run finished, even if it could not be analysed.
+    state: PointState,
+    /// Why the run failed, or why a finished run has no analysis.
+    error: Option<String>,
+    /// What the table reads of an analysed run.
+    digest: Option<RunDigest>,
     /// The best component's envelope spectrum, for the spectra grid.
     spectrum: Option<PointSpectrum>,
 }
@@ -218,13 +219,18 @@ impl PlanRuns {
     }
 }
 
-/// Run one scene and read it as a simulation job does: the first acceleration channel
-/// recorded, analysed over the steady window with the default options. A run still going
-/// after `budget` of wall time is stopped and reported as over budget (a cage whirling on
-/// its land can hold the explicit step near 1e-8 s).
+/// Run one scene and read it as a simulation job does (`jobs::simulation_job`, through
+/// the same engine calls: `first_non_finite`, `diagnose_run`): a solver failure or a
+/// non-finite sample fails the point with the job's failure kind in front (`numerical:`,
+/// as the API's table writes a failed job's error); a finished run that cannot be
+/// analysed succeeds with the reason as its error. A run still going after `budget` of
+/// wall time is stopped and reported as over budget (a cage whirling on its land can hold
+/// the explicit step near 1e-8 s).
 fn run_scene(scene: &ValidScene, budget: Option<Duration>) -> Ran {
     let failed = |e: String| Ran {
-        digest: Err(e),
+        state: PointState::Failed,
+        error: Some(e),
+        digest: None,
         spectrum: None,
     };
     let started = Instant::now();
@@ -250,14 +256,21 @@ fn run_scene(scene: &ValidScene, budget: Option<Duration>) -> Ran {
                 reached * duration
             ));
         }
-        Err(e) => return failed(e.to_string()),
+        Err(e) => return failed(format!("numerical: {e}")),
     };
-    let Some(channel) = CHANNELS.iter().find(|c| result.channels.get(c).is_some()) else {
-        return failed(format!("no channel {} to analyse", CHANNELS.join(" or ")));
-    };
-    let out = match analyze_simulation(&result, scene, channel, &AnalysisOptions::default()) {
-        Ok(o) => o,
-        Err(e) => return failed(format!("analysis: {e}")),
+    if let Some(message) = first_non_finite(&result) {
+        return failed(format!("numerical: {message}"));
+    }
+    let out = match diagnose_run(&result, scene) {
+        Ok((_, _, out)) => out,
+        Err(message) => {
+            return Ran {
+                state: PointState::Succeeded,
+                error: Some(message),
+                digest: None,
+                spectrum: None,
+            }
+        }
     };
     let level = out.report.best_component.level;
     let spectrum = out
@@ -270,7 +283,9 @@ fn run_scene(scene: &ValidScene, budget: Option<Duration>) -> Ran {
             level,
         });
     Ran {
-        digest: Ok(RunDigest::of_run(&result, scene, out.report)),
+        state: PointState::Succeeded,
+        error: None,
+        digest: Some(RunDigest::of_run(&result, scene, out.report)),
         spectrum,
     }
 }
@@ -304,9 +319,10 @@ fn run_plan(plan: &Plan, workers: usize, budget: Option<Duration>) -> PlanRuns {
                 let p = &plan.points[i];
                 let ran = run_scene(&p.scene, budget);
                 let what = point_name(plan, i);
-                let line = match &ran.digest {
-                    Ok(d) => format!("{what}: {:.1} s", d.wall_time),
-                    Err(e) => format!("{what}: failed: {e}"),
+                let line = match (&ran.digest, &ran.error) {
+                    (Some(d), _) => format!("{what}: {:.1} s", d.wall_time),
+                    (None, Some(e)) => format!("{what}: {}: {e}", ran.state),
+                    (None, None) => format!("{what}: {}", ran.state),
                 };
                 // one line per point: the log when stderr is not a terminal (the bar hides)
                 bar.println(&line);
@@ -351,11 +367,15 @@ fn table_of(plan: &Plan, runs: &PlanRuns) -> StudyTable {
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            let (state, err, d) = match &runs.of_point(i).digest {
-                Ok(d) => (PointState::Succeeded, None, Some(d)),
-                Err(e) => (PointState::Failed, Some(e.clone()), None),
-            };
-            StudyTableRow::new(i, &p.spec, None, state, err, d)
+            let ran = runs.of_point(i);
+            StudyTableRow::new(
+                i,
+                &p.spec,
+                None,
+                ran.state,
+                ran.error.clone(),
+                ran.digest.as_ref(),
+            )
         })
         .collect();
     StudyTable {
@@ -398,7 +418,9 @@ fn print_summary(table: &StudyTable, elapsed: f64, distinct: usize) {
     );
     println!();
     println!("| point | fault | {} | BPFO (Hz) | BPFO best (Hz) | BPFO best error (%) | BPFO detected | BPFO cage error (%) | BPFI (Hz) | BPFI best (Hz) | BPFI best error (%) | BPFI detected | BPFI cage error (%) | level | whirl | wall (s) |", table.factors.join(" | "));
-    println!("|{}", " --- |".repeat(table.factors.len() + 16));
+    // point, fault, the factors (one empty cell when there are none), five cells per line,
+    // level, whirl, wall
+    println!("|{}", " --- |".repeat(table.factors.len().max(1) + 15));
     for r in &table.rows {
         let factors: Vec<String> = r.factors.iter().map(|f| format!("{}", f.value)).collect();
         let name = match &r.label {
@@ -428,8 +450,9 @@ fn print_summary(table: &StudyTable, elapsed: f64, distinct: usize) {
                 );
             }
             None => println!(
-                "| {name} | {fault} | {} | failed: {} |",
+                "| {name} | {fault} | {} | {}: {} |",
                 factors.join(" | "),
+                r.state,
                 r.error.as_deref().unwrap_or("")
             ),
         }

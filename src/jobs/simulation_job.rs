@@ -10,15 +10,11 @@ use super::record::{
 };
 use crate::store::{Artifact, FailureKind};
 use bearing_core::scene::ValidScene;
-use bearing_core::signal::analysis::{AnalysisOptions, AnalysisOutput};
 use bearing_core::simulation::{simulate, BallSummary, RunControl, SimError, SimResult};
-use bearing_core::simulation_analysis::{analyze_simulation, frequency_comparison};
+use bearing_core::simulation_analysis::{diagnose_run, first_non_finite, frequency_comparison};
 
 /// Written beside the slip in every record, so the number is never read without it.
 const SLIP_DEFINITION: &str = "slip = 1 - mean cage speed / epicyclic speed, where the epicyclic speed is the pure rolling (outer-race control) of the loaded balls: the load zone's contact angles weighted by their contact loads";
-
-/// Channels tried for the diagnosis, in order.
-const ANALYSIS_CHANNELS: &[&str] = &["outer_ring_accel_z", "outer_ring_accel_y"];
 
 pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, JobFailure> {
     // Parsing validates: a stored scene that no longer validates fails the job here.
@@ -44,14 +40,12 @@ pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, Jo
     })?;
     let stats = serde_json::to_value(&result.summary.stats).ok();
     // A NaN that slipped past the engine fails the job rather than poisoning stored results.
-    for ch in &result.channels.channels {
-        if let Some(k) = ch.data.iter().position(|x| !x.is_finite()) {
-            return Err(JobFailure {
-                kind: FailureKind::Numerical,
-                message: format!("channel {} has a non-finite sample at index {k}", ch.name),
-                stats,
-            });
-        }
+    if let Some(message) = first_non_finite(&result) {
+        return Err(JobFailure {
+            kind: FailureKind::Numerical,
+            message,
+            stats,
+        });
     }
     let (record, artifacts) = summarize(&scene, &result);
     Ok(JobOutput {
@@ -65,13 +59,13 @@ pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, Jo
 pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, Vec<Artifact>) {
     let s = &result.summary;
     let mut artifacts = channel_artifacts(&result.channels);
-    let (analysis, analysis_error) = match analyse(scene, result) {
+    let (analysis, analysis_error) = match diagnose_run(result, scene) {
         Ok((channel, options, out)) => {
             artifacts.extend(spectrum_artifacts(&out));
             let record = AnalysisRecord {
                 report: out.report,
                 options,
-                channel: Some(channel),
+                channel: Some(channel.to_string()),
             };
             (Some(record), None)
         }
@@ -123,24 +117,4 @@ pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, V
         analysis_error,
     };
     (record, artifacts)
-}
-
-/// Analyse the first acceleration channel recorded, over the run's steady window.
-fn analyse(
-    scene: &ValidScene,
-    result: &SimResult,
-) -> Result<(String, AnalysisOptions, AnalysisOutput), String> {
-    let channel = ANALYSIS_CHANNELS
-        .iter()
-        .find(|n| result.channels.get(n).is_some())
-        .ok_or_else(|| {
-            format!(
-                "no channel named {} to analyse",
-                ANALYSIS_CHANNELS.join(" or ")
-            )
-        })?;
-    let options = AnalysisOptions::default();
-    let out = analyze_simulation(result, scene, channel, &options)
-        .map_err(|e| format!("analysis of {channel} not possible: {e}"))?;
-    Ok((channel.to_string(), options, out))
 }

@@ -455,6 +455,40 @@ async fn the_cli_and_the_api_give_the_same_table_for_the_same_design() {
     }
 }
 
+#[tokio::test]
+async fn the_cli_and_the_api_give_the_same_row_for_a_failed_point() {
+    // Fixed-step RK4 at 1e-4 s is far above the contact modes' stability limit (~1e-6 s):
+    // the run goes non-finite within a few steps, in the service and in-process alike.
+    let body = json!({
+        "name": "unstable step",
+        "base": {"preset": "h7005c", "fault_case": "outer",
+                 "overrides": {"solver": {"duration": 0.01, "integrator": "rk4_fixed"}}},
+        "design": {"type": "one_at_a_time", "factors": [
+            {"name": "initial_step", "pointer": "/solver/initial_step", "values": [1e-4]}
+        ]}
+    });
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "1"]);
+    let c = client();
+    let (status, _, st) = post_json(&c, &s.url("/v1/studies"), &body).await;
+    assert_eq!(status, 202, "{st}");
+    let id = st["id"].as_str().unwrap().to_string();
+    wait_study(&c, &s, &id, Duration::from_secs(120), finished).await;
+    let (_, _, api) = get_json(&c, &s.url(&format!("/v1/studies/{id}/table"))).await;
+    assert_eq!(api["rows"][0]["state"], "failed", "{api}");
+    let error = api["rows"][0]["error"].as_str().unwrap_or_default();
+    assert!(error.starts_with("numerical: "), "{error}");
+
+    let (dir, output) = cli_study(&body, &[]);
+    assert!(output.status.success(), "{output:?}");
+    let cli: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("out").join("table.json")).unwrap(),
+    )
+    .unwrap();
+    // the same row: state, the job's failure kind and message, no result
+    same(&cli, &api, &["id", "job_id", "wall_time"], "table");
+}
+
 #[test]
 fn the_cli_stops_a_point_at_its_budget_and_lists_it_as_failed() {
     // 10 s simulated cannot finish in 0.3 s of wall time

@@ -9,6 +9,46 @@ use crate::simulation::SimResult;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::TAU;
 
+/// Channels a simulated run is diagnosed from, in order of preference: the pedestal's
+/// accelerometer (the outer ring's acceleration, eq. 36), vertical then horizontal. The
+/// service's simulation jobs and the command line's in-process studies both read this
+/// list, so a study point gives the same row either way.
+pub const DIAGNOSIS_CHANNELS: [&str; 2] = ["outer_ring_accel_z", "outer_ring_accel_y"];
+
+/// The first non-finite sample a run recorded, as a message naming its channel and index
+/// (a NaN that slipped past the solver must fail the run, not poison its results).
+pub fn first_non_finite(result: &SimResult) -> Option<String> {
+    result.channels.channels.iter().find_map(|ch| {
+        ch.data
+            .iter()
+            .position(|x| !x.is_finite())
+            .map(|k| format!("channel {} has a non-finite sample at index {k}", ch.name))
+    })
+}
+
+/// The diagnosis of a run: the first of [`DIAGNOSIS_CHANNELS`] it recorded, analysed
+/// over its steady window with the default options. `Err` says why there is none (the run
+/// itself stands).
+pub fn diagnose_run(
+    result: &SimResult,
+    scene: &Scene,
+) -> Result<(&'static str, AnalysisOptions, AnalysisOutput), String> {
+    let channel = DIAGNOSIS_CHANNELS
+        .iter()
+        .copied()
+        .find(|n| result.channels.get(n).is_some())
+        .ok_or_else(|| {
+            format!(
+                "no channel named {} to analyse",
+                DIAGNOSIS_CHANNELS.join(" or ")
+            )
+        })?;
+    let options = AnalysisOptions::default();
+    let out = analyze_simulation(result, scene, channel, &options)
+        .map_err(|e| format!("analysis of {channel} not possible: {e}"))?;
+    Ok((channel, options, out))
+}
+
 /// Analyse `channel` of a simulation result: sample rate from the result, geometry from
 /// the scene's bearing, shaft speed from the run's mean shaft speed (the steady rpm if
 /// absent), and, unless `opts.window` is given, the engine's steady window (the window the
