@@ -49,7 +49,7 @@ const LAYERS: &[Layers] = &[
             ("json_float", 0),
             // Merge patches and pointer assignments on scene documents (requests, designs).
             ("json_doc", 0),
-            // The generic ODE solver: nothing of the engine below it but json_float.
+            // The generic ODE solver: it imports nothing of the engine (forbidden pairs below).
             ("ode", 1),
             ("scene", 1),
             ("physics", 2),
