@@ -14,7 +14,11 @@ pub struct ErrorNorm {
 
 impl ErrorNorm {
     pub fn new(rtol: f64, atol: f64, scale: Vec<f64>, unbounded: Vec<bool>) -> Self {
-        assert_eq!(scale.len(), unbounded.len(), "one scale and flag per component");
+        assert_eq!(
+            scale.len(),
+            unbounded.len(),
+            "one scale and flag per component"
+        );
         ErrorNorm {
             rtol,
             atol,

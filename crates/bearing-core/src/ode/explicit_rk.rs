@@ -481,6 +481,10 @@ mod tests {
         let err = cash_karp.attempt_step(&mut Signed, t, &y, &f0, h, t + h, &mut st);
         assert_eq!(bits(cash_karp.y_new()), bits(&ck));
         assert_eq!(err.to_bits(), reference_norm(&y, &ck, &est, tol).to_bits());
-        assert_eq!(ck[2].to_bits(), 0.0f64.to_bits(), "the sum from +0 gives +0");
+        assert_eq!(
+            ck[2].to_bits(),
+            0.0f64.to_bits(),
+            "the sum from +0 gives +0"
+        );
     }
 }

@@ -211,7 +211,11 @@ mod tests {
     fn fixed_run(k: f64, h: f64, age: u32) -> [f64; 3] {
         let mut sys = Test { k };
         let jac = BlockJacobian::new(vec![0..2, 2..3], vec![vec![0, 2], vec![1]]);
-        let mut ros = Rosenbrock::new(3, ErrorNorm::new(1.0, 1.0, vec![1.0; 3], vec![false; 3]), jac);
+        let mut ros = Rosenbrock::new(
+            3,
+            ErrorNorm::new(1.0, 1.0, vec![1.0; 3], vec![false; 3]),
+            jac,
+        );
         ros.jac_max_age = age;
         let mut st = StepStats::default();
         let mut y = vec![1.0, 0.0, 1.0];

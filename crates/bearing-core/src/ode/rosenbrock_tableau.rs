@@ -104,4 +104,3 @@ impl Tableau {
         t
     }
 }
-
