@@ -20,10 +20,17 @@ const ROOTS: [&str; 3] = ["Scene", "KinematicGeometry", "AnalysisOptions"];
 
 /// Format number -> SHA-256 of its schemas. Append a line when you bump `INPUT_FORMAT`;
 /// never edit an old one.
-const FINGERPRINTS: &[(i64, &str)] = &[(
-    1,
-    "d02cbfcb839a4b409c7b2fa4eeeb5199fb951aa509e340324be92697fa11fdb8",
-)];
+const FINGERPRINTS: &[(i64, &str)] = &[
+    (
+        1,
+        "d02cbfcb839a4b409c7b2fa4eeeb5199fb951aa509e340324be92697fa11fdb8",
+    ),
+    // the rheology traction law, the `slip_implicit` integrator, exact Hertz by default
+    (
+        2,
+        "6bee50198066d2df2e2f88a6ddf77a82dce5b8ae56b17a3b2eb07dd1a2b002da",
+    ),
+];
 
 /// Keys that document a schema without changing what parses.
 const PROSE: [&str; 4] = ["description", "example", "examples", "title"];

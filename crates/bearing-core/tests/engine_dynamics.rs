@@ -122,10 +122,12 @@ fn evenly_loaded_cage_runs_quiet() {
 }
 
 /// With lubricant drag and EHL rolling resistance the balls are braked: the cage runs
-/// slower than in the paper's model, the loads still balance and agree with the
+/// slower than in the paper's model, and the loads still balance and agree with the
 /// quasi-static solution (drag and rolling resistance act along the rolling direction, so
-/// the Jones-Harris normal equilibrium does not change), and the side load the braked
-/// balls put on the cage drives its land into a half-speed whirl, which the summary reports.
+/// the Jones-Harris normal equilibrium does not change). Started from the traction balance
+/// the cage runs quiet on its land: the half-speed whirl once seen here came from the start
+/// (every ball at its own rolling speed and the cage at their mean, 2.3 % fast); measured
+/// 2026-11-27 from the balanced start, e = 0.11 over 0.3 s, no orbit (docs/lab/history.md).
 #[test]
 fn drag_and_rolling_resistance_brake_the_cage() {
     let paper = constant_speed(0.06, 1e-5);
@@ -145,14 +147,10 @@ fn drag_and_rolling_resistance_brake_the_cage() {
         rf.summary.cage_motion
     );
     assert!(change < -5e-4 && change > -1e-2, "cage {cp} -> {cf} rad/s");
-    // Whirl: the centre orbits at about half the cage speed (oil whirl of the land film).
+    // No whirl: measured mean eccentricity 0.13 over this window (0.11 over 0.3 s), where
+    // the whirl grew to 0.97; 0.3 leaves room and stays far below it.
     let c = rf.summary.cage_motion;
-    assert_eq!(c.state, CageState::Whirling, "{c:?}");
-    let ratio = c.whirl_speed / cf;
-    assert!(
-        ratio > 0.4 && ratio < 0.6,
-        "whirl at {ratio} of the cage speed"
-    );
+    assert!(c.mean_eccentricity < 0.3, "{c:?}");
 }
 
 /// The film traction law (Maxwell-Eyring film up to Bair & Winer's limiting shear stress): the normal equilibrium is unchanged, so the fidelity

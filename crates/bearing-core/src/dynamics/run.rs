@@ -5,7 +5,7 @@ use super::averages::Averages;
 use super::error_scale::scales;
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
-use super::system::{bearing_jacobian, BearingSystem};
+use super::system::{ball_velocity_jacobian, bearing_jacobian, BearingSystem, JacobianScope};
 use super::window::steady_window;
 use crate::model::Model;
 use crate::ode::auto_switch::AutoSwitch;
@@ -65,6 +65,12 @@ pub fn integrate(
         }
         Integrator::RosenbrockW => {
             let method = Rosenbrock::new(n, norm, bearing_jacobian(m));
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::SlipImplicit => {
+            sys.scope = JacobianScope::BallVelocities;
+            let method = Rosenbrock::new(n, norm, ball_velocity_jacobian(m));
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }

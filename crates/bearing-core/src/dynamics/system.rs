@@ -8,6 +8,18 @@ use crate::model::Model;
 use crate::ode::block_jacobian::{difference_step, BlockJacobian};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 
+/// Which part of the bearing's Jacobian a linearly implicit method gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JacobianScope {
+    /// Full fidelity: every body's diagonal block ([`bearing_jacobian`]); reduced
+    /// levels: the cage's land film alone.
+    Blocks,
+    /// Each ball's velocities on each other ([`ball_velocity_jacobian`]), and at the
+    /// reduced levels the cage's land film too: implicit in the traction's slip
+    /// relaxation, explicit in the contact's elastic modes.
+    BallVelocities,
+}
+
 /// The model as an ODE system.
 pub struct BearingSystem<'m> {
     pub model: &'m Model,
@@ -20,6 +32,8 @@ pub struct BearingSystem<'m> {
     pub track: BalanceTrack,
     /// Scratch state for the land film's Jacobian (reduced levels).
     land_y: Vec<f64>,
+    /// What [`JacobianSystem::jacobian`] fills.
+    pub scope: JacobianScope,
 }
 
 impl<'m> BearingSystem<'m> {
@@ -30,6 +44,31 @@ impl<'m> BearingSystem<'m> {
             diag: Diagnostics::new(model.z),
             track: BalanceTrack::new(model.z),
             land_y: vec![0.0; model.layout.len],
+            scope: JacobianScope::Blocks,
+        }
+    }
+
+    /// The land film's rows of the cage, `d(y'', z'')/d(y, z, y', z')` with
+    /// `d(y, z)/d(y', z')` = 1, by differences of the land force alone (the other entries
+    /// of the cage block zero).
+    fn land_film_jacobian(&mut self, t: f64, y: &[f64], jac: &mut BlockJacobian) {
+        let m = self.model;
+        let c = m.layout.cage;
+        jac.set(c + cage::Y, c + cage::Y_DOT, 1.0);
+        jac.set(c + cage::Z, c + cage::Z_DOT, 1.0);
+        if m.land.is_none() {
+            return;
+        }
+        let a0 = rhs::cage_land_acceleration(m, t, y);
+        self.land_y.copy_from_slice(y);
+        for col in [cage::Y, cage::Z, cage::Y_DOT, cage::Z_DOT] {
+            let k = c + col;
+            let d;
+            (self.land_y[k], d) = difference_step(y[k], self.scale[k]);
+            let a = rhs::cage_land_acceleration(m, t, &self.land_y);
+            self.land_y[k] = y[k];
+            jac.set(c + cage::Y_DOT, k, (a[0] - a0[0]) / d);
+            jac.set(c + cage::Z_DOT, k, (a[1] - a0[1]) / d);
         }
     }
 }
@@ -110,33 +149,30 @@ impl JacobianSystem for BearingSystem<'_> {
     /// radial velocity run away (the step underflowed within 3-8 ms).
     fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
         let m = self.model;
+        let track = &self.track;
+        let mut cost = 0;
+        if self.scope == JacobianScope::BallVelocities {
+            // the grouped ball-velocity columns alone (the other entries stay as set)
+            jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
+                rhs_tracked(m, t, y, dy, None, Some(track))
+            });
+            cost = jac.cost_in_rhs() as u64;
+        }
         if m.quasi_static_balls {
-            let c = m.layout.cage;
-            jac.clear();
-            jac.set(c + cage::Y, c + cage::Y_DOT, 1.0);
-            jac.set(c + cage::Z, c + cage::Z_DOT, 1.0);
-            if m.land.is_none() {
-                return 0;
-            }
-            let a0 = rhs::cage_land_acceleration(m, t, y);
-            self.land_y.copy_from_slice(y);
-            for col in [cage::Y, cage::Z, cage::Y_DOT, cage::Z_DOT] {
-                let k = c + col;
-                let d;
-                (self.land_y[k], d) = difference_step(y[k], self.scale[k]);
-                let a = rhs::cage_land_acceleration(m, t, &self.land_y);
-                self.land_y[k] = y[k];
-                jac.set(c + cage::Y_DOT, k, (a[0] - a0[0]) / d);
-                jac.set(c + cage::Z_DOT, k, (a[1] - a0[1]) / d);
+            if self.scope == JacobianScope::Blocks {
+                jac.clear();
             }
             // five land-force evaluations, a small fraction of one right-hand side
-            return 0;
+            self.land_film_jacobian(t, y, jac);
+            return cost;
         }
-        let track = &self.track;
-        jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
-            rhs_tracked(m, t, y, dy, None, Some(track))
-        });
-        jac.cost_in_rhs() as u64
+        if self.scope == JacobianScope::Blocks {
+            jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
+                rhs_tracked(m, t, y, dy, None, Some(track))
+            });
+            cost = jac.cost_in_rhs() as u64;
+        }
+        cost
     }
     /// The land film's Jacobian is cheap and changes fast with the cage's eccentricity:
     /// fresh at every step.
@@ -176,4 +212,35 @@ pub fn bearing_jacobian(m: &Model) -> BlockJacobian {
         groups.push(vec![l.cage + k]);
     }
     BlockJacobian::new(blocks, groups)
+}
+
+/// The ball-velocity Jacobian: per ball, the block of its velocities (at full fidelity
+/// the axial, radial and orbital speeds and the three spin components; with quasi-static
+/// balls the orbital speed and spin, their centres being algebraic) on each other, by
+/// coloured differences (component k of every ball at once: 6 or 4 right-hand sides).
+/// That block holds the traction's slip relaxation, the system's fastest dissipative mode
+/// (a loaded ball's slip relaxes in microseconds, faster at low speed where the film is
+/// thinner); the positions' columns are left out, so the contact's elastic modes, which
+/// carry the vibration, stay explicit and undamped. The rings are zero blocks and the cage
+/// block holds the land film at the reduced levels.
+pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
+    let l = &m.layout;
+    let first = if m.quasi_static_balls {
+        ball::THETA_DOT
+    } else {
+        ball::X_DOT
+    };
+    let mut blocks = Vec::with_capacity(2 * l.balls + 3);
+    for j in 0..l.balls {
+        let b = l.ball(j);
+        blocks.push(b..b + first);
+        blocks.push(b + first..b + BALL);
+    }
+    blocks.push(l.inner..l.inner + INNER);
+    blocks.push(l.outer..l.outer + OUTER);
+    blocks.push(l.cage..l.cage + CAGE);
+    let groups = (first..BALL)
+        .map(|k| (0..l.balls).map(|j| l.ball(j) + k).collect())
+        .collect();
+    BlockJacobian::partial(blocks, groups)
 }

@@ -10,6 +10,7 @@ use crate::physics::drag::{BallDrag, CavityMedium};
 use crate::physics::frames::Azimuth;
 use crate::physics::hertz::{effective_modulus, exact, hamrock_brewe, HertzContact};
 use crate::physics::race_contact::{ContactParams, Race};
+use crate::physics::rheology_traction::{roelands_z, Rheology, RheologyTraction};
 use crate::physics::rolling_resistance::RollingResistance;
 use crate::physics::strips::{StripRule, Strips};
 use crate::physics::traction::{FilmRheology, FilmTraction, TractionCurve, TractionLaw};
@@ -129,6 +130,22 @@ impl Model {
                             alpha: lub.pressure_viscosity,
                             shear_modulus,
                             eyring_stress,
+                            limiting: limiting_coefficient,
+                        },
+                    )),
+                    Traction::Rheology {
+                        limiting_coefficient,
+                        roelands_z: z,
+                    } => TractionLaw::Rheology(RheologyTraction::new(
+                        ep_race,
+                        rx,
+                        &hz,
+                        &Rheology {
+                            eta0: lub.dynamic_viscosity,
+                            alpha0: lub.pressure_viscosity,
+                            z: z.unwrap_or_else(|| {
+                                roelands_z(lub.dynamic_viscosity, lub.pressure_viscosity)
+                            }),
                             limiting: limiting_coefficient,
                         },
                     )),

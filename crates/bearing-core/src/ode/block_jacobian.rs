@@ -43,8 +43,20 @@ pub struct BlockJacobian {
 
 impl BlockJacobian {
     /// A matrix over `n = blocks.last().end` components with the given diagonal blocks
-    /// (contiguous, in order) and column colouring.
+    /// (contiguous, in order) and column colouring; every column in a group.
     pub fn new(blocks: Vec<Range<usize>>, groups: Vec<Vec<usize>>) -> Self {
+        Self::build(blocks, groups, true)
+    }
+
+    /// As [`BlockJacobian::new`], but only the columns in `groups` are evaluated: every
+    /// other column stays zero, so a block none of whose columns is grouped is neither
+    /// factored nor solved with. For a method implicit only in the part of the system
+    /// where the stiffness is (a W-method keeps its order with any approximation).
+    pub fn partial(blocks: Vec<Range<usize>>, groups: Vec<Vec<usize>>) -> Self {
+        Self::build(blocks, groups, false)
+    }
+
+    fn build(blocks: Vec<Range<usize>>, groups: Vec<Vec<usize>>, complete: bool) -> Self {
         let n = blocks.last().map_or(0, |b| b.end);
         let mut offsets = Vec::with_capacity(blocks.len());
         let mut block_of = vec![0; n];
@@ -75,7 +87,7 @@ impl BlockJacobian {
             covered[c] = true;
         }
         assert!(
-            covered.iter().all(|&c| c),
+            !complete || covered.iter().all(|&c| c),
             "every column needs a colour group"
         );
         let n_blocks = blocks.len();
@@ -326,5 +338,36 @@ mod tests {
                 r[row]
             );
         }
+    }
+
+    /// A partial Jacobian evaluates only its grouped columns: a block without one stays
+    /// zero (solved as `h gamma x`), and in a block with some, the other columns stay zero.
+    #[test]
+    fn a_partial_jacobian_evaluates_only_its_grouped_columns() {
+        // f = J y with every entry nonzero inside the blocks
+        let j = [
+            [-3.0, 1.0, 0.0, 0.0],
+            [2.0, -5.0, 0.0, 0.0],
+            [0.0, 0.0, -1.0, 4.0],
+            [0.0, 0.0, 6.0, -2.0],
+        ];
+        let f = |_t: f64, y: &[f64], dy: &mut [f64]| {
+            for r in 0..4 {
+                dy[r] = (0..4).map(|c| j[r][c] * y[c]).sum();
+            }
+        };
+        let mut bj = BlockJacobian::partial(vec![0..2, 2..4], vec![vec![3]]);
+        assert_eq!(bj.cost_in_rhs(), 1);
+        let y = [0.3, -0.2, 1.0, 0.5];
+        let mut f0 = [0.0; 4];
+        f(0.0, &y, &mut f0);
+        bj.evaluate(0.0, &y, &f0, &[1.0; 4], f);
+        // column 3 only: rows 2 and 3 of block 2 (forward differences of a linear map,
+        // ~1e-8 relative)
+        assert_eq!(&bj.jac[..4], &[0.0; 4]);
+        assert_eq!([bj.jac[4], bj.jac[6]], [0.0, 0.0]);
+        assert!((bj.jac[5] - 4.0).abs() < 1e-6 && (bj.jac[7] + 2.0).abs() < 1e-6);
+        assert!(bj.factor(0.1));
+        assert_eq!(bj.zero, [true, false]);
     }
 }

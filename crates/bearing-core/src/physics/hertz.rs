@@ -63,7 +63,10 @@ pub fn elliptic_ke(m: f64) -> (f64, f64) {
     (k, k * (1.0 - sum))
 }
 
-/// Exact Hertz solution (Johnson, Contact Mechanics, ch. 4) for radii `rx` < `ry`.
+/// Exact Hertz solution for radii `rx` < `ry`: the ellipticity relation is Biboulet & Houpert
+/// (2010, Part 2, App. 2, eq. 43) with kappa inverted; the semi-axes and approach are the
+/// classical closed forms, checked against an independent derivation from their definitions
+/// (tests/engine_traction.rs) and ISO 16281's reference deflections (tests/engine_iso16281.rs).
 ///
 /// The ellipticity kappa = a/b solves `Ry/Rx = (kappa^2 E(e) - K(e)) / (K(e) - E(e))`
 /// with `e^2 = 1 - 1/kappa^2`; then `a^3 = 3 Q Ry (K - E) / (pi E* e^2)`,

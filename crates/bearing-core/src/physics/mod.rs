@@ -11,6 +11,7 @@ pub mod frames;
 pub mod hertz;
 pub mod kinematics;
 pub mod race_contact;
+pub mod rheology_traction;
 pub mod rolling_resistance;
 pub mod strips;
 pub mod traction;

@@ -359,12 +359,13 @@ pub fn strip_traction(
         c: [c0, c1, c2],
     };
     let (f_tr, f_h, f_y) = match law {
-        ContactTraction::Curve(curve) => strips.sum(|s| curve.mu_over_s(s)),
+        ContactTraction::Curve(curve) => strips.sum(|_, s| curve.mu_over_s(s)),
         ContactTraction::Film {
             slope,
             pressure_over_eyring,
             limiting,
-        } => strips.sum(|s| film_mu_over_s(slope, pressure_over_eyring, limiting, s)),
+        } => strips.sum(|_, s| film_mu_over_s(slope, pressure_over_eyring, limiting, s)),
+        ContactTraction::Rheology(film) => strips.sum(|chord, s| film.mu_over_s_chord(chord, s)),
     };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
     // the ring takes each strip's reaction at r_pr = ball_to_ring + r_pb
@@ -397,18 +398,22 @@ impl StripSums<'_> {
     /// Each strip's arithmetic and the order of the sums are unchanged: the result is
     /// bit-identical to the fused loop.
     #[inline(always)]
-    fn sum(&self, mu_over_s: impl Fn(f64) -> f64) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    fn sum(
+        &self,
+        mu_over_s: impl Fn(f64, f64) -> f64,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
         let [c0, c1, c2] = self.c;
         let mut f_tr = Vector3::zeros();
         let mut f_h = Vector3::zeros();
         let mut f_y = Vector3::zeros();
         let strips = &self.p.strips;
-        for (xi, weight) in strips
+        for ((xi, weight), chord) in strips
             .xi
             .chunks(STRIP_CHUNK)
             .zip(strips.weight.chunks(STRIP_CHUNK))
+            .zip(strips.chord.chunks(STRIP_CHUNK))
         {
-            let n = xi.len().min(weight.len());
+            let n = xi.len().min(weight.len()).min(chord.len());
             let mut h = [0.0; STRIP_CHUNK];
             let mut y = [0.0; STRIP_CHUNK];
             let mut v = [Vector3::zeros(); STRIP_CHUNK];
@@ -423,7 +428,7 @@ impl StripSums<'_> {
             // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
             let mut g = [0.0; STRIP_CHUNK];
             for k in 0..n {
-                g[k] = self.q * weight[k] * mu_over_s(speed[k]);
+                g[k] = self.q * weight[k] * mu_over_s(chord[k], speed[k]);
             }
             for k in 0..n {
                 let tr = g[k] * v[k];
@@ -478,7 +483,7 @@ mod tests {
                     q: 80.0,
                     c,
                 };
-                let got = sums.sum(|s| curve.mu_over_s(s));
+                let got = sums.sum(|_, s| curve.mu_over_s(s));
                 let (mut f_tr, mut f_h, mut f_y) =
                     (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
                 for (&xi, &w) in p.strips.xi.iter().zip(&p.strips.weight) {
@@ -535,7 +540,8 @@ mod tests {
             let v_ring = ring.velocity + ring.spin * ring_axis.cross(&r_pr);
             let mut v = v_ring - v_ball;
             v -= v.dot(u) * u;
-            let tr = (q * w * law.mu_over_s(v.norm())) * v;
+            let chord = (1.0 - (y / a_eff).powi(2)).max(0.0).sqrt();
+            let tr = (q * w * law.mu_over_s(chord, v.norm())) * v;
             f_tr += tr;
             m_ball += r_pb.cross(&tr);
             m_ring -= r_pr.cross(&tr);

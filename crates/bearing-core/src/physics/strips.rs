@@ -31,28 +31,33 @@ pub struct Strips {
     pub xi: Vec<f64>,
     /// Load shares, summing to 1.
     pub weight: Vec<f64>,
+    /// Each sample's half-chord along the rolling direction over the centre's,
+    /// `sqrt(1 - xi^2)` (a strip's mean pressure over the centre strip's).
+    pub chord: Vec<f64>,
 }
 
 impl Strips {
     /// `n` samples (at least one) placed by `rule`.
     pub fn new(n: usize, rule: StripRule) -> Strips {
         let n = n.max(1);
-        match rule {
+        let (xi, weight) = match rule {
             StripRule::Equal => Strips::equal(n),
             StripRule::Gauss => Strips::gauss_jacobi(n),
+        };
+        Strips {
+            chord: xi.iter().map(|x| (1.0 - x * x).max(0.0).sqrt()).collect(),
+            xi,
+            weight,
         }
     }
 
-    fn equal(n: usize) -> Strips {
+    fn equal(n: usize) -> (Vec<f64>, Vec<f64>) {
         let xi: Vec<f64> = (0..n)
             .map(|i| -1.0 + (i as f64 + 0.5) * 2.0 / n as f64)
             .collect();
         let raw: Vec<f64> = xi.iter().map(|x| 1.0 - x * x).collect();
         let sum: f64 = raw.iter().sum();
-        Strips {
-            weight: raw.iter().map(|w| w / sum).collect(),
-            xi,
-        }
+        (xi, raw.iter().map(|w| w / sum).collect())
     }
 
     /// Golub and Welsch (Math. Comp. 23, 1969): the nodes are the eigenvalues of the
@@ -60,7 +65,7 @@ impl Strips {
     /// and each weight is the total mass times the square of its eigenvector's first
     /// component. For `1 - x^2` (Gegenbauer, lambda = 3/2) the monic recurrence has zero
     /// diagonal and `beta_k = k (k + 2) / ((2k + 1)(2k + 3))`.
-    fn gauss_jacobi(n: usize) -> Strips {
+    fn gauss_jacobi(n: usize) -> (Vec<f64>, Vec<f64>) {
         let mut t = nalgebra::DMatrix::<f64>::zeros(n, n);
         for k in 1..n {
             let kf = k as f64;
@@ -74,10 +79,10 @@ impl Strips {
             .collect();
         nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
         let sum: f64 = nodes.iter().map(|p| p.1).sum();
-        Strips {
-            xi: nodes.iter().map(|p| p.0).collect(),
-            weight: nodes.iter().map(|p| p.1 / sum).collect(),
-        }
+        (
+            nodes.iter().map(|p| p.0).collect(),
+            nodes.iter().map(|p| p.1 / sum).collect(),
+        )
     }
 
     pub fn len(&self) -> usize {

@@ -4,6 +4,7 @@
 
 use super::exp::exp;
 use super::hertz::HertzContact;
+use super::rheology_traction::{ContactRheology, RheologyTraction};
 use std::f64::consts::PI;
 
 /// Traction curve `mu(s) = (a + b s) exp(-c s) + d`, s the slip speed in m/s.
@@ -37,10 +38,7 @@ impl TractionCurve {
     }
 }
 
-/// Below this entrainment speed (m/s) the film law takes this speed: the film thickness and
-/// the elastic slope diverge as the speed vanishes. A numerical floor far below running
-/// speeds: on the H7005C it binds below about 10 rpm (1 rpm entrains at about 1 mm/s).
-pub const FILM_SPEED_FLOOR: f64 = 0.01;
+pub use super::rheology_traction::FILM_SPEED_FLOOR;
 
 /// Barus exponents above this are capped (the viscous compliance is then negligible).
 const MAX_BARUS_EXPONENT: f64 = 50.0;
@@ -147,15 +145,17 @@ impl FilmTraction {
 pub enum TractionLaw {
     /// A curve of the slip speed alone (eq. 15), the same at every load and speed.
     Curve(TractionCurve),
-    /// The film law, which depends on the contact's load and entrainment speed.
+    /// The earlier film law, which depends on the contact's load and entrainment speed.
     Film(FilmTraction),
+    /// Traction from the lubricant's rheology, strip by strip (`rheology_traction`).
+    Rheology(RheologyTraction),
 }
 
 impl TractionLaw {
     /// Whether evaluating the law needs the contact's entrainment speed.
     #[inline]
     pub fn needs_entrainment(&self) -> bool {
-        matches!(self, TractionLaw::Film(_))
+        matches!(self, TractionLaw::Film(_) | TractionLaw::Rheology(_))
     }
 
     /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s; read by the film law
@@ -165,6 +165,7 @@ impl TractionLaw {
         match self {
             TractionLaw::Curve(c) => ContactTraction::Curve(*c),
             TractionLaw::Film(f) => f.at(q, um),
+            TractionLaw::Rheology(r) => ContactTraction::Rheology(r.at(q, um)),
         }
     }
 }
@@ -181,13 +182,17 @@ pub enum ContactTraction {
         pressure_over_eyring: f64,
         limiting: f64,
     },
+    /// [`RheologyTraction`] at one load and speed: each strip at its own pressure.
+    Rheology(ContactRheology),
 }
 
 impl ContactTraction {
-    /// `mu(s) / s`, finite at s = 0, 1/(m/s).
+    /// `mu(s) / s` of a strip whose half-chord along the rolling direction is `chord` times
+    /// the centre strip's (read by the rheology law only), finite at s = 0, 1/(m/s).
     #[inline]
-    pub fn mu_over_s(&self, s: f64) -> f64 {
+    pub fn mu_over_s(&self, chord: f64, s: f64) -> f64 {
         match *self {
+            ContactTraction::Rheology(r) => r.mu_over_s_chord(chord, s),
             ContactTraction::Curve(c) => c.mu_over_s(s),
             ContactTraction::Film {
                 slope,
@@ -282,9 +287,9 @@ mod tests {
         let vi = 0.03 * (1.5e-8 * p).exp() / (h * p);
         let slope = el * vi / (el + vi);
         let law = f.at(q, um);
-        let mu = |s: f64| law.mu_over_s(s) * s;
+        let mu = |s: f64| law.mu_over_s(1.0, s) * s;
         // linear at small slip with the series slope
-        assert!((law.mu_over_s(0.0) / slope - 1.0).abs() < 1e-12);
+        assert!((law.mu_over_s(1.0, 0.0) / slope - 1.0).abs() < 1e-12);
         assert!((mu(1e-9) / (slope * 1e-9) - 1.0).abs() < 1e-6);
         // Eyring region by hand, and the limiting shear stress at large slip
         let s = 0.01;
@@ -300,8 +305,8 @@ mod tests {
         );
         // mu / s continuous where the Eyring and the tanh series switch in
         for z_switch in [1e-4 / (slope * p / 5e6), 1e-4 * 0.07 / slope] {
-            let below = law.mu_over_s(z_switch * (1.0 - 1e-9));
-            let above = law.mu_over_s(z_switch * (1.0 + 1e-9));
+            let below = law.mu_over_s(1.0, z_switch * (1.0 - 1e-9));
+            let above = law.mu_over_s(1.0, z_switch * (1.0 + 1e-9));
             assert!((below / above - 1.0).abs() < 1e-9);
         }
     }

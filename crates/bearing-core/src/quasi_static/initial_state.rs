@@ -11,7 +11,11 @@ pub fn initial_state(m: &Model, qs: &QsState) -> Vec<f64> {
     // the pedestal carries the applied radial load
     let oy = m.applied_force[1] / m.pedestal_k[0];
     let oz = m.applied_force[2] / m.pedestal_k[1];
-    let mut cage_speed = 0.0;
+    // the traction balance's cage speed and spins; the pure-rolling kinematics otherwise
+    let cage_speed = qs
+        .balance
+        .as_ref()
+        .map_or(qs.epicyclic_cage_speed, |b| b.cage_speed);
     for j in 0..m.z {
         let b = l.ball(j);
         let [x, r] = qs.balls[j];
@@ -25,10 +29,17 @@ pub fn initial_state(m: &Model, qs: &QsState) -> Vec<f64> {
         let pz = r * c + oz;
         y[b + ball::R] = (py * py + pz * pz).sqrt();
         y[b + ball::THETA] = (-py).atan2(pz);
-        y[b + ball::THETA_DOT] = thd;
-        y[b + ball::W_X] = wx;
-        y[b + ball::W_R] = wr;
-        cage_speed += thd / m.z as f64;
+        match &qs.balance {
+            Some(bal) => {
+                y[b + ball::THETA_DOT] = bal.cage_speed;
+                [y[b + ball::W_X], y[b + ball::W_R], y[b + ball::W_T]] = bal.spins[j];
+            }
+            None => {
+                y[b + ball::THETA_DOT] = thd;
+                y[b + ball::W_X] = wx;
+                y[b + ball::W_R] = wr;
+            }
+        }
     }
     let i = l.inner;
     y[i + inner::X] = qs.ring[0];

@@ -3,10 +3,12 @@
 //! It is the reference the dynamic model is checked against and the initial state of
 //! every dynamic run.
 
+mod cage_balance;
 mod error;
 mod initial_state;
 mod solver;
 
+pub use cage_balance::{cage_balance, CageBalance};
 pub use error::QsError;
 pub use initial_state::initial_state;
 pub use solver::{solve, solve_model, QsBall, QsState, QuasiStaticSolution};

@@ -1,6 +1,7 @@
 //! The Jones-Harris solve: every ball in its own equilibrium (nested), the inner ring by
 //! Newton-Levenberg on the ring force (and moment) balance.
 
+use super::cage_balance::{cage_balance, CageBalance};
 use super::error::QsError;
 use crate::model::Model;
 use crate::physics::frames::{e_r, tilt_matrix, to_azimuth};
@@ -41,8 +42,17 @@ pub struct QuasiStaticSolution {
     pub inner_ring_displacement: [f64; 3],
     /// Inner-ring tilt about Y and Z, rad (0 when locked).
     pub inner_ring_tilt: [f64; 2],
-    /// Kinematic (pure-rolling, epicyclic) cage speed, rad/s.
+    /// Cage speed, rad/s: where the traction on the balls balances (every ball orbiting
+    /// with the cage, the cage carrying no net torque; `quasi_static::cage_balance`), which
+    /// is what a dynamic run settles to; the epicyclic speed where no balance was found
+    /// (`traction_balanced` false).
     pub cage_speed: f64,
+    /// Whether `cage_speed` is the traction balance.
+    pub traction_balanced: bool,
+    /// Pure-rolling cage speed at the load-weighted contact angles with outer-race control
+    /// (the dynamic summary's `epicyclic_cage_speed`), rad/s: the kinematic reference the
+    /// cage slip is measured against.
+    pub epicyclic_cage_speed: f64,
     /// Ball spin about its own axis, rad/s.
     pub ball_spin_speed: f64,
     /// Inner groove curvature factor used, -.
@@ -76,6 +86,12 @@ pub struct QsState {
     pub balls: Vec<[f64; 2]>,
     /// Per ball: orbital speed, w_x, w_r (rad/s) from rolling kinematics.
     pub kinematics: Vec<[f64; 3]>,
+    /// Pure-rolling cage speed at the load-weighted contact angles (outer-race control),
+    /// rad/s: the dynamic summary's `epicyclic_cage_speed`.
+    pub epicyclic_cage_speed: f64,
+    /// Cage speed and ball spins at which the traction balances ([`cage_balance`]);
+    /// `None` where Newton found no balance.
+    pub balance: Option<CageBalance>,
     pub iterations: u32,
     /// Largest residual, N.
     pub residual: f64,
@@ -294,18 +310,53 @@ pub fn solve_model(m: &Model, w: f64) -> Result<QsState, QsError> {
         Err(fail) => return Err(no_equilibrium(m, fail, None)),
     };
     let inner = inner_ring(m, &u, w);
-    let kinematics = azimuths(m)
+    let (kinematics, evals): (Vec<[f64; 3]>, Vec<Eval>) = azimuths(m)
         .into_iter()
         .zip(&balls)
-        .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).4)
-        .collect();
+        .map(|(th, p)| {
+            let f = ball_forces(m, &inner, w, th, p[0], p[1]);
+            (f.4, f.3)
+        })
+        .unzip();
+    let epicyclic = epicyclic_cage_speed(m, &evals, w);
+    let balance = cage_balance(
+        m,
+        &inner,
+        &outer_ring(),
+        &balls,
+        &azimuths(m),
+        &kinematics,
+        epicyclic,
+    );
     Ok(QsState {
         ring: u,
         balls,
         kinematics,
+        epicyclic_cage_speed: epicyclic,
+        balance,
         iterations,
         residual,
     })
+}
+
+/// Pure-rolling cage speed at the contact angles of the load zone, each ball's angle
+/// weighted by its contact load (as the dynamic summary defines it), rad/s.
+fn epicyclic_cage_speed(m: &Model, evals: &[Eval], w: f64) -> f64 {
+    let weighted = |load: fn(&Eval) -> f64, angle: fn(&Eval) -> f64| {
+        let (mut sw, mut sum) = (0.0, 0.0);
+        for e in evals {
+            sw += load(e);
+            sum += load(e) * angle(e);
+        }
+        if sw > 0.0 {
+            sum / sw
+        } else {
+            m.free_contact_angle
+        }
+    };
+    let ai = weighted(|e| e.inner_load, |e| e.inner_alpha);
+    let ao = weighted(|e| e.outer_load, |e| e.outer_alpha);
+    rolling_kinematics(0.5 * m.pitch_diameter, ai, ao, 0.5 * m.ball_diameter, w)[0]
 }
 
 /// A converged ring state: unknowns, ball positions, iterations, largest force residual (N).
@@ -463,29 +514,37 @@ impl QsState {
             .zip(&self.balls)
             .map(|(th, p)| ball_forces(m, &inner, w, th, p[0], p[1]).3)
             .collect();
-        let loaded: Vec<&[f64; 3]> = self
+        let cage = self
+            .balance
+            .as_ref()
+            .map_or(self.epicyclic_cage_speed, |b| b.cage_speed);
+        // mean spin of the balls the races carry
+        let loaded: Vec<f64> = self
             .kinematics
             .iter()
             .zip(&ev)
-            .filter(|(_, e)| e.inner_load > 0.0)
-            .map(|(k, _)| k)
+            .enumerate()
+            .filter(|(_, (_, e))| e.inner_load > 0.0)
+            .map(|(j, (k, _))| match &self.balance {
+                Some(b) => {
+                    let [x, r, t] = b.spins[j];
+                    (x * x + r * r + t * t).sqrt()
+                }
+                None => (k[1] * k[1] + k[2] * k[2]).sqrt(),
+            })
             .collect();
-        let pick = if loaded.is_empty() {
-            self.kinematics.iter().collect()
+        let spin = if loaded.is_empty() {
+            0.0
         } else {
-            loaded
+            loaded.iter().sum::<f64>() / loaded.len() as f64
         };
-        let cage = pick.iter().map(|k| k[0]).sum::<f64>() / pick.len() as f64;
-        let spin = pick
-            .iter()
-            .map(|k| (k[1] * k[1] + k[2] * k[2]).sqrt())
-            .sum::<f64>()
-            / pick.len() as f64;
         QuasiStaticSolution {
             shaft_speed: w,
             inner_ring_displacement: [self.ring[0], self.ring[1], self.ring[2]],
             inner_ring_tilt: [self.ring[3], self.ring[4]],
             cage_speed: cage,
+            traction_balanced: self.balance.is_some(),
+            epicyclic_cage_speed: self.epicyclic_cage_speed,
             ball_spin_speed: spin,
             inner_groove_curvature: (m.inner_race.free_distance / m.ball_diameter) + 0.5,
             outer_groove_curvature: (m.outer_race.free_distance / m.ball_diameter) + 0.5,

@@ -162,8 +162,8 @@ pub enum CavityDrag {
     },
 }
 
-/// Off by default: with drag and rolling resistance on, the Table-1 cage settles into a
-/// half-speed whirl on its land at 10000 rpm (docs/reference/model.md, "Lubricant drag").
+/// Off by default: no read source measures its size in a grease-lubricated spindle bearing,
+/// and the paper's model has none (docs/reference/model.md, "EHL rolling resistance").
 impl Default for CavityDrag {
     fn default() -> Self {
         CavityDrag::None
@@ -193,12 +193,14 @@ impl Default for RollingResistanceModel {
     }
 }
 
-/// Traction coefficient as a function of slip speed s (m/s).
+/// The EHL traction law of the ball-race contacts: a curve of the slip speed s (m/s), the
+/// same at every contact (the paper's eq. 15), or a law from the lubricant's rheology.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Traction {
-    /// `mu(s) = (a + b s) exp(-c s) + d` (eq. 15); a, d in -, b in s/m, c in s/m.
+    /// The paper's eq. 15, `mu(s) = (a + b s) exp(-c s) + d`; a, d in -, b in s/m, c in
+    /// s/m. The same at every load and speed.
     Abcd { a: f64, b: f64, c: f64, d: f64 },
     /// ADORE-style description: mu at zero slip, peak value, value at large slip (all -)
     /// and the slip speed of the peak u_m (m/s). Converted to `Abcd`.
@@ -208,25 +210,47 @@ pub enum Traction {
         mu_inf: f64,
         u_m: f64,
     },
-    /// Film law from the lubricant's rheology (docs/reference/model.md, "Traction laws"): the film
-    /// shears elastically at low slip, in series with its piezoviscous flow
-    /// (`dynamic_viscosity`, `pressure_viscosity`), thins above the Eyring stress and
-    /// carries at most `limiting_coefficient` times the mean Hertz pressure. Far stiffer than
-    /// the curves at small slip: the explicit solvers take several times more steps.
+    /// Traction from the lubricant's rheology, strip by strip (docs/reference/model.md,
+    /// "Traction laws"): each strip of eq. 13 at its own mean Hertz pressure, its viscosity
+    /// from Roelands (`dynamic_viscosity`, `pressure_viscosity`), shear thinning above the
+    /// Eyring stress `2 Lambda / alpha(p)` and at most `limiting_coefficient` times its
+    /// pressure (Arana, Larrañaga & Ulacia 2019, eq. 13), on the Hamrock-Dowson film.
+    Rheology {
+        /// Limiting shear stress over pressure Lambda, -. Default 0.047, a paraffinic
+        /// mineral base oil (Höglund 1999 as given by Arana et al. 2019, Table 2); range
+        /// 0.035 (PAO) to 0.053 (naphthenic).
+        #[serde(default = "default_rheology_limiting")]
+        limiting_coefficient: f64,
+        /// Roelands' pressure-viscosity index Z, -. Default: from the lubricant's viscosity
+        /// and pressure-viscosity coefficient, `alpha = Z (ln eta0 + 9.67) / 1.96e8 Pa`
+        /// (0.69 for the preset's oil; spindle oils 0.68-0.81, Stachowiak & Batchelor
+        /// Table 2.3).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        roelands_z: Option<f64>,
+    },
+    /// The project's earlier film law, kept to reproduce its studies: one slope per
+    /// contact from the mean Hertz pressure with Barus viscosity, an elastic film term in
+    /// series, an Eyring `asinh` and a `tanh` blend into the limiting coefficient. The
+    /// elastic term and the `tanh` are the project's own closed form, and Barus at the mean
+    /// pressure makes it far stiffer than `rheology` (docs/reference/model.md, "Traction
+    /// laws").
     Film {
-        /// Elastic shear modulus of the film in the contact, Pa. Default 1 GPa (Johnson &
-        /// Tevaarwerk, Evans & Johnson: 0.3-2 GPa at 1-1.5 GPa pressure).
+        /// Elastic shear modulus of the film in the contact, Pa. Default 1 GPa ("of the
+        /// order 10^9 Pa", Arana et al. 2019).
         #[serde(default = "default_film_shear_modulus")]
         shear_modulus: f64,
-        /// Eyring stress, Pa. Default 5 MPa (Johnson & Tevaarwerk-type fits for mineral
-        /// and traction oils: 2-10 MPa).
+        /// Eyring stress, Pa. Default 5 MPa (an assumption: no measured value for this oil
+        /// was read).
         #[serde(default = "default_eyring_stress")]
         eyring_stress: f64,
-        /// Limiting shear stress over pressure, -. Default 0.07 (Bair & Winer: 0.05-0.10,
-        /// the plateau of disc-machine traction curves).
+        /// Limiting shear stress over pressure, -. Default 0.07.
         #[serde(default = "default_limiting_coefficient")]
         limiting_coefficient: f64,
     },
+}
+
+fn default_rheology_limiting() -> f64 {
+    0.047
 }
 
 fn default_film_shear_modulus() -> f64 {
@@ -349,6 +373,11 @@ pub enum Integrator {
     /// control and a block-diagonal finite-difference Jacobian: not held back by the
     /// stiff contact modes.
     RosenbrockW,
+    /// ROS34PW2 with only each ball's velocity block in its Jacobian: implicit in the
+    /// traction's slip relaxation (the stiffness of a rheology-based traction law, worst
+    /// at low speed), explicit and undamped in the contact's elastic modes
+    /// (docs/reference/model.md, "Time integration").
+    SlipImplicit,
 }
 
 /// How much of the model a run integrates (docs/reference/model.md, "Fidelity levels").
@@ -434,11 +463,13 @@ pub enum TractionQuadrature {
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 #[serde(rename_all = "snake_case")]
 pub enum HertzModel {
-    /// Hamrock-Brewe curve fits (default, the paper's choice): K within 0.5-2.3 % of
-    /// exact for this bearing's conformities.
-    #[default]
+    /// Hamrock-Brewe curve fits (the paper's choice): K within 0.5-2.3 % of exact for this
+    /// bearing's conformities.
     HamrockBrewe,
-    /// Complete elliptic integrals (Johnson, Contact Mechanics, ch. 4), to ~1e-15.
+    /// Complete elliptic integrals (default; the ellipticity from Biboulet & Houpert 2010,
+    /// Part 2, App. 2, eqs. 41-43), to ~1e-15: the ISO 16281 test bearing's static
+    /// deflections within 0.03 % of the reference, where the fits miss by 0.5 %.
+    #[default]
     Exact,
 }
 
@@ -455,7 +486,7 @@ impl Default for Solver {
             traction_strips: 10,
             traction_quadrature: TractionQuadrature::Gauss,
             sample_rate: 102_400.0,
-            hertz: HertzModel::HamrockBrewe,
+            hertz: HertzModel::Exact,
         }
     }
 }
@@ -474,6 +505,22 @@ pub struct Outputs {
 }
 
 impl Traction {
+    /// The paper's eq. 15 with the ADORE sample deck's coefficients (MIL-L-23699: mu0 0,
+    /// mu_max 0.05 at 1 m/s, mu_inf 0.036; `mu(0) = 0` keeps traction continuous through
+    /// zero slip): the preset's curve before the rheology law became its default.
+    pub const PAPER_CURVE: Traction = Traction::Abcd {
+        a: -0.036,
+        b: 0.1018,
+        c: 1.547,
+        d: 0.036,
+    };
+
+    /// The rheology law with its defaults.
+    pub const RHEOLOGY: Traction = Traction::Rheology {
+        limiting_coefficient: 0.047,
+        roelands_z: None,
+    };
+
     /// Coefficients `(a, b, c, d)` of eq. 15; `None` for a law that is not such a curve.
     pub fn abcd(&self) -> Option<(f64, f64, f64, f64)> {
         match *self {
@@ -484,7 +531,7 @@ impl Traction {
                 mu_inf,
                 u_m,
             } => Some(adore_to_abcd(mu0, mu_max, mu_inf, u_m)),
-            Traction::Film { .. } => None,
+            Traction::Film { .. } | Traction::Rheology { .. } => None,
         }
     }
 }

@@ -191,16 +191,16 @@ fn h7005c() -> Scene {
         },
         lubricant: Lubricant {
             // Table 1 gives 5.1 mm^2/s (a kinematic viscosity); times a base-oil density of
-            // 870 kg/m^3 that is 4.44 mPa s.
+            // 870 kg/m^3 that is 4.44 mPa s. 5.1 mm^2/s is a hot spindle-grease base oil:
+            // FAG's L252 high-speed spindle grease has 5 mm^2/s at 100 deg C (25 at 40);
+            // base oils range 840 (PAO) to 900 kg/m^3 (naphthenic; Höglund 1999 as given by
+            // Arana et al. 2019, Table 2). docs/lab/research/issue-33-traction-sources.md.
             dynamic_viscosity: 5.1e-6 * 870.0,
-            // ADORE sample deck (MIL-L-23699): mu0 0, mu_max 0.05 at 1 m/s, mu_inf 0.036.
-            // mu(0) = 0 keeps traction continuous through zero slip.
-            traction: Traction::Abcd {
-                a: -0.036,
-                b: 0.1018,
-                c: 1.547,
-                d: 0.036,
-            },
+            // The paper's eq. 15 curve with the ADORE sample deck's coefficients. The law that
+            // reproduces the paper's cage lag is `rheology` (Traction::RHEOLOGY); it becomes
+            // the default once the integration makes it affordable (docs/reference/model.md,
+            // "Traction laws").
+            traction: Traction::PAPER_CURVE,
             critical_film_ball_cage: 0.8e-6,
             critical_film_cage_land: 3.0e-6,
             cage_friction: 0.08,
@@ -208,11 +208,13 @@ fn h7005c() -> Scene {
             // bearings (0.02-0.1); without it ball-race modes (~40 kHz) never decay.
             contact_damping_ratio: 0.05,
             density: 870.0,
-            // Barus alpha of a light spindle base oil at 60-80 deg C (1.0-2.2e-8 1/Pa).
+            // Pressure-viscosity coefficient of a light spindle oil: Stachowiak & Batchelor,
+            // Table 2.3, "spindle oil" 16e-9 at 60 deg C and 13e-9 1/Pa at 100 deg C; with
+            // the viscosity above it gives Roelands' Z = 0.69 (read range 0.68-0.81).
             pressure_viscosity: 1.5e-8,
-            // The paper's model has neither; with both on, this bearing's cage whirls on its
-            // land at 10000 rpm (docs/reference/model.md). Opt in with `oil_air` (oil fraction 0.01
-            // for a channelled grease) and `houpert` (factor 1, fully flooded).
+            // The paper's model has neither, and no read source sizes them for a greased
+            // spindle bearing (docs/reference/model.md). Opt in with `oil_air` (oil fraction
+            // 0.01 for a channelled grease) and `houpert` (factor 1, fully flooded).
             cavity_drag: CavityDrag::None,
             rolling_resistance: RollingResistanceModel::None,
         },

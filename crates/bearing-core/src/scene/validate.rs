@@ -267,6 +267,27 @@ impl Scene {
                     );
                 }
             }
+            Traction::Rheology {
+                limiting_coefficient,
+                roelands_z,
+            } => {
+                let path = "lubricant.traction.limiting_coefficient";
+                if c.pos(path, limiting_coefficient, "-") && limiting_coefficient > 0.5 {
+                    c.push(path, "must be <= 0.5 (EHL films limit near 0.03-0.1)");
+                }
+                if let Some(z) = roelands_z {
+                    let path = "lubricant.traction.roelands_z";
+                    if c.pos(path, z, "-") && z > 1.5 {
+                        c.push(path, "must be <= 1.5 (oils range 0.4-0.8)");
+                    }
+                } else if l.dynamic_viscosity.is_finite() && l.dynamic_viscosity <= 6.31e-5 {
+                    // Roelands' index from the viscosity needs eta0 above its reference
+                    c.push(
+                        "lubricant.dynamic_viscosity",
+                        "must exceed 6.31e-5 Pa s for the rheology law (Roelands' reference viscosity)",
+                    );
+                }
+            }
             Traction::Film {
                 shear_modulus,
                 eyring_stress,
@@ -633,7 +654,11 @@ mod tests {
         let mut s = scene();
         for fidelity in [Fidelity::QuasiStaticBalls, Fidelity::ConcentricCage] {
             s.solver.fidelity = fidelity;
-            for integrator in [Integrator::RosenbrockW, Integrator::Auto] {
+            for integrator in [
+                Integrator::RosenbrockW,
+                Integrator::Auto,
+                Integrator::SlipImplicit,
+            ] {
                 s.solver.integrator = integrator;
                 assert!(s.validate().is_ok(), "{fidelity:?} {integrator:?}");
             }

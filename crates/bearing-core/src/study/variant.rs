@@ -18,13 +18,13 @@ pub struct LubricantVariant {
 }
 
 impl LubricantVariant {
-    /// The seed paper's model: no drag, no rolling resistance, the base's traction curve.
+    /// The seed paper's model: no drag, no rolling resistance, the eq. 15 curve.
     pub fn paper() -> Self {
         LubricantVariant {
             name: "paper".into(),
             cavity_drag: CavityDrag::None,
             rolling_resistance: RollingResistanceModel::None,
-            traction: None,
+            traction: Some(Traction::PAPER_CURVE),
         }
     }
 
@@ -52,10 +52,10 @@ fn value<T: Serialize>(part: &T) -> Value {
     serde_json::to_value(part).expect("scene parts serialize")
 }
 
-/// Every named variant: the paper's model, each added term alone, both together, a richer
-/// oil-air mixture, and the elastic-plastic film traction law with its defaults, with drag
-/// and rolling resistance, and with each coefficient at the ends of its plausible range
-/// (the sensitivity table's rows).
+/// Every named variant: the paper's model (its eq. 15 curve), the rheology law (the
+/// preset's) with and without drag and rolling resistance and with each uncertain
+/// coefficient at the ends of its read range, each added term alone, both together, a
+/// richer oil-air mixture, and the earlier film law's variants (to reproduce its study).
 pub fn lubricant_variants() -> Vec<LubricantVariant> {
     let drag = |x| CavityDrag::OilAir { oil_fraction: x };
     let houpert = RollingResistanceModel::Houpert { factor: 1.0 };
@@ -82,8 +82,33 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
             }),
         }
     };
+    let rheology = |name: &str, limiting_coefficient, roelands_z, with_drag| {
+        let (cavity_drag, rolling_resistance) = if with_drag {
+            (drag(0.01), houpert)
+        } else {
+            (CavityDrag::None, RollingResistanceModel::None)
+        };
+        LubricantVariant {
+            name: name.into(),
+            cavity_drag,
+            rolling_resistance,
+            traction: Some(Traction::Rheology {
+                limiting_coefficient,
+                roelands_z,
+            }),
+        }
+    };
     vec![
         LubricantVariant::paper(),
+        // the preset's law, and each uncertain coefficient at the ends of its read range
+        // (Lambda: PAO 0.035 to naphthenic 0.053; Z: 0.60 mineral typical to 0.81, the
+        // second spindle oil of Stachowiak & Batchelor's Table 2.3)
+        rheology("rheology", 0.047, None, false),
+        rheology("rheology+drag+rolling", 0.047, None, true),
+        rheology("rheology-L0.035", 0.035, None, false),
+        rheology("rheology-L0.053", 0.053, None, false),
+        rheology("rheology-Z0.60", 0.047, Some(0.60), false),
+        rheology("rheology-Z0.81", 0.047, Some(0.81), false),
         v("drag", drag(0.01), RollingResistanceModel::None),
         v("rolling", CavityDrag::None, houpert),
         v("drag+rolling", drag(0.01), houpert),

@@ -1,0 +1,300 @@
+//! Traction from the lubricant's rheology, strip by strip (docs/reference/model.md,
+//! "Traction laws"; the sources and what was read of them:
+//! docs/lab/research/issue-33-traction-sources.md).
+//!
+//! Each strip of eq. 13 is a film at its own pressure, the strip's mean Hertz pressure along
+//! the rolling direction `p = (pi/4) p0 sqrt(1 - xi^2)`. On it:
+//! - viscosity from Roelands' pressure-viscosity relation (as given by Stachowiak &
+//!   Batchelor, Engineering Tribology, sec. 2.6, and Nguyen-Schäfer 2019 sec. 1.8.1 after
+//!   Hamrock, Schmid & Jacobson 2004): `ln eta = ln eta0 + (ln eta0 + 9.67)((1 + p/p_R)^Z - 1)`;
+//! - the Eyring stress from the local pressure-viscosity coefficient,
+//!   `tau_E = 2 Lambda / alpha(p)` (Bair & Winer, as given by Arana et al. 2019);
+//! - the mean shear stress of Arana, Larrañaga & Ulacia (Proc IMechE J 233, 2019), eq. 13,
+//!   isothermal (`Phi_T = 1`): `mu = min((tau_E/p) asinh(eta s / (tau_E h_c)), Lambda)`,
+//!   the limiting shear stress `Lambda p` of Höglund (1999, as given by Arana, Table 2);
+//! - `h_c` the Hamrock-Dowson central film (Arana eq. 19) with the reciprocal asymptotic
+//!   isoviscous coefficient `alpha*` of Arana eq. 35 (after van Leeuwen 2009).
+//!
+//! Left out, with the measured or computed reason in model.md: the film's elastic
+//! (Maxwell) compliance (Deborah number below 0.1 at every load with Roelands viscosity)
+//! and shear heating (below 0.2 K at the slips of a rolling ball).
+
+use super::exp::exp;
+use super::hertz::HertzContact;
+use std::f64::consts::PI;
+
+/// Below this entrainment speed (m/s) the film laws take this speed: the film thickness and
+/// the elastic slope diverge as the speed vanishes. A numerical floor far below running
+/// speeds: on the H7005C it binds below about 10 rpm (1 rpm entrains at about 1 mm/s).
+pub const FILM_SPEED_FLOOR: f64 = 0.01;
+
+/// Roelands' reference pressure `p_R`, Pa (5.1e-9 1/Pa in Stachowiak's form).
+pub const ROELANDS_PRESSURE: f64 = 1.96e8;
+/// `-ln(eta_R)` with Roelands' reference viscosity `eta_R = 6.31e-5` Pa s, -.
+pub const ROELANDS_LN_ETA_R: f64 = 9.67;
+
+/// Roelands' pressure-viscosity index Z of an oil of inlet viscosity `eta0` (Pa s) and
+/// initial pressure-viscosity coefficient `alpha0` (1/Pa), from
+/// `alpha0 = Z (ln eta0 + 9.67) / p_R` (Nguyen-Schäfer 2019 sec. 1.8.1), -. Needs
+/// `eta0 > eta_R`; the preset's spindle oil gives 0.69.
+pub fn roelands_z(eta0: f64, alpha0: f64) -> f64 {
+    alpha0 * ROELANDS_PRESSURE / (eta0.ln() + ROELANDS_LN_ETA_R)
+}
+
+/// The lubricant's rheology for [`RheologyTraction`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rheology {
+    /// Inlet (ambient-pressure) viscosity, Pa s.
+    pub eta0: f64,
+    /// Initial pressure-viscosity coefficient, 1/Pa.
+    pub alpha0: f64,
+    /// Roelands' pressure-viscosity index, -.
+    pub z: f64,
+    /// Limiting shear stress over pressure, -.
+    pub limiting: f64,
+}
+
+/// The law's constants for one ball-race pair.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RheologyTraction {
+    /// Limiting shear stress over pressure, -.
+    pub limiting: f64,
+    /// `ln eta0`, with eta0 in Pa s.
+    ln_eta0: f64,
+    /// `ln eta0 + 9.67`, -.
+    roelands_c: f64,
+    /// Roelands' index, -.
+    z: f64,
+    /// `h_c = h_coef u^0.67 Q^-0.067` (Hamrock-Dowson), m (m/s)^-0.67 N^0.067.
+    h_coef: f64,
+    /// `(pi/4) p0 / Q^(1/3)`: the centre strip's mean pressure per cube-root load,
+    /// Pa/N^(1/3).
+    p_strip_coef: f64,
+}
+
+impl RheologyTraction {
+    /// Constants for effective modulus `e_prime` (Pa), relative radius `rx` in the rolling
+    /// direction (m), the pair's Hertz contact and the lubricant's rheology.
+    pub fn new(e_prime: f64, rx: f64, hertz: &HertzContact, r: &Rheology) -> Self {
+        let ellipticity = hertz.a_coef / hertz.b_coef;
+        // Arana eq. 35: the film's coefficient from Roelands' parameters
+        let alpha_star = r.alpha0 / (1.0 + (1.0 - r.z) / (r.alpha0 * ROELANDS_PRESSURE));
+        // Arana eq. 19: h_c/Rx = 2.69 U^0.67 G^0.53 W^-0.067 (1 - 0.61 exp(-0.73 k))
+        let h_coef = rx
+            * 2.69
+            * (r.eta0 / (e_prime * rx)).powf(0.67)
+            * (alpha_star * e_prime).powf(0.53)
+            * (e_prime * rx * rx).powf(0.067)
+            * (1.0 - 0.61 * (-0.73 * ellipticity).exp());
+        // p0 = 3 Q / (2 pi a b), a and b growing as Q^(1/3)
+        let p0_coef = 3.0 / (2.0 * PI * hertz.a_coef * hertz.b_coef);
+        RheologyTraction {
+            limiting: r.limiting,
+            ln_eta0: r.eta0.ln(),
+            roelands_c: r.eta0.ln() + ROELANDS_LN_ETA_R,
+            z: r.z,
+            h_coef,
+            p_strip_coef: 0.25 * PI * p0_coef,
+        }
+    }
+
+    /// Central film thickness at load `q` (N) and entrainment speed `um` (m/s), m.
+    #[inline]
+    pub fn film_thickness(&self, q: f64, um: f64) -> f64 {
+        self.h_coef * um.max(FILM_SPEED_FLOOR).powf(0.67) * q.powf(-0.067)
+    }
+
+    /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s).
+    #[inline]
+    pub fn at(&self, q: f64, um: f64) -> ContactRheology {
+        let h = self.film_thickness(q, um);
+        ContactRheology {
+            // the strip pressures scale with p0 ~ Q / (a b) ~ Q^(1/3)
+            p_centre: self.p_strip_coef * q.cbrt(),
+            h,
+            inv_2lambda_h: 1.0 / (2.0 * self.limiting * h),
+            ln_eta0: self.ln_eta0,
+            roelands_c: self.roelands_c,
+            z: self.z,
+            limiting: self.limiting,
+        }
+    }
+}
+
+/// [`RheologyTraction`] at one load and entrainment speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactRheology {
+    /// Mean pressure along the rolling direction of a strip through the centre, Pa.
+    pub p_centre: f64,
+    /// Central film thickness, m.
+    pub h: f64,
+    /// `1 / (2 Lambda h)`, 1/m.
+    inv_2lambda_h: f64,
+    ln_eta0: f64,
+    roelands_c: f64,
+    z: f64,
+    limiting: f64,
+}
+
+/// The film of one strip: its pressure and what its traction follows from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripFilm {
+    /// Mean pressure along the rolling direction, Pa.
+    pub pressure: f64,
+    /// Viscosity at that pressure (Roelands), Pa s.
+    pub viscosity: f64,
+    /// Local pressure-viscosity coefficient `d ln eta / dp`, 1/Pa.
+    pub alpha: f64,
+    /// Eyring stress `2 Lambda / alpha`, Pa.
+    pub eyring_stress: f64,
+}
+
+impl ContactRheology {
+    /// Pressure (Pa), viscosity (Pa s) and local pressure-viscosity coefficient (1/Pa) of
+    /// the strip whose half-chord along the rolling direction is `chord` times the centre
+    /// strip's (`sqrt(1 - xi^2)` at `xi` of the semi-major axis).
+    #[inline(always)]
+    fn film(&self, chord: f64) -> (f64, f64, f64) {
+        let pressure = self.p_centre * chord;
+        let x = 1.0 + pressure * (1.0 / ROELANDS_PRESSURE);
+        // (1 + p/p_R)^Z
+        let xz = exp(self.z * x.ln());
+        let viscosity = exp(self.ln_eta0 + self.roelands_c * (xz - 1.0));
+        let alpha = self.roelands_c * self.z * xz / (x * ROELANDS_PRESSURE);
+        (pressure, viscosity, alpha)
+    }
+
+    /// The film of the strip at `xi` (fraction of the semi-major axis, |xi| <= 1).
+    pub fn strip(&self, xi: f64) -> StripFilm {
+        let (pressure, viscosity, alpha) = self.film((1.0 - xi * xi).max(0.0).sqrt());
+        StripFilm {
+            pressure,
+            viscosity,
+            alpha,
+            eyring_stress: 2.0 * self.limiting / alpha,
+        }
+    }
+
+    /// `mu(s) / s` of the strip with half-chord ratio `chord` (see [`ContactRheology::film`];
+    /// the strip loop's form, the chord being fixed per strip), finite at s = 0, 1/(m/s).
+    ///
+    /// Arana's eq. 13 per strip, `mu = min((tau_E/p) asinh(z), Lambda)` with
+    /// `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
+    /// `c = alpha p / 2` as `mu = Lambda min(asinh(z), c) / c`: one division per strip.
+    #[inline(always)]
+    pub fn mu_over_s_chord(&self, chord: f64, s: f64) -> f64 {
+        let (pressure, viscosity, alpha) = self.film(chord);
+        // a strip at the ellipse's edge carries no load and no traction
+        if pressure <= 0.0 {
+            return 0.0;
+        }
+        let c = 0.5 * alpha * pressure;
+        // z / s = eta alpha / (2 Lambda h)
+        let k = viscosity * alpha * self.inv_2lambda_h;
+        let z = k * s;
+        if z < 1e-4 {
+            // asinh z / z = 1 - z^2/6 + O(z^4): slope eta / (h p) = Lambda k / c
+            return self.limiting * k * (1.0 - z * z / 6.0) / c;
+        }
+        let a = asinh_positive(z);
+        if a >= c {
+            // the film carries at most Lambda p
+            self.limiting / s
+        } else {
+            self.limiting * a / (c * s)
+        }
+    }
+
+    /// `mu(s) / s` of the strip at `xi` (fraction of the semi-major axis), 1/(m/s).
+    pub fn mu_over_s(&self, xi: f64, s: f64) -> f64 {
+        self.mu_over_s_chord((1.0 - xi * xi).max(0.0).sqrt(), s)
+    }
+
+    /// `mu(s)` of the strip at `xi`, -.
+    pub fn mu(&self, xi: f64, s: f64) -> f64 {
+        self.mu_over_s(xi, s) * s
+    }
+}
+
+/// `asinh z` for `z >= 1e-4`, as `log1p(z + z^2 / (1 + sqrt(1 + z^2)))`: one square root and
+/// one `log1p` (the standard library's `asinh` adds a `hypot`, which cost as much as the
+/// rest of the strip law); exact to a few ulp, `ln(2 z)` where `z^2` would overflow.
+#[inline(always)]
+fn asinh_positive(z: f64) -> f64 {
+    if z > 1e150 {
+        return z.ln() + std::f64::consts::LN_2;
+    }
+    let z2 = z * z;
+    (z + z2 / (1.0 + (1.0 + z2).sqrt())).ln_1p()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::hertz::exact;
+
+    /// Z of the preset's oil (4.44 mPa s, 1.5e-8 1/Pa) and of Stachowiak's Table 2.3 spindle
+    /// oil at 60 deg C (6.3 mPa s, 16e-9 1/Pa), as the research note computed them by hand
+    /// (0.692 and 0.682) with the printed 5.1e-9 1/Pa for 1/p_R: within 0.2 % (the two
+    /// constants differ by 0.04 %, the hand figures are rounded to three digits).
+    #[test]
+    fn roelands_index_of_the_spindle_oils() {
+        assert!((roelands_z(4.44e-3, 1.5e-8) / 0.692 - 1.0).abs() < 2e-3);
+        assert!((roelands_z(6.3e-3, 16e-9) / 0.682 - 1.0).abs() < 2e-3);
+    }
+
+    fn law(q: f64, um: f64) -> ContactRheology {
+        let (rx, ry, ep) = (2.364e-3, 20e-3, 2.286e11);
+        let hz = exact(rx, ry, ep);
+        let r = Rheology {
+            eta0: 4.44e-3,
+            alpha0: 1.5e-8,
+            z: roelands_z(4.44e-3, 1.5e-8),
+            limiting: 0.047,
+        };
+        RheologyTraction::new(ep, rx, &hz, &r).at(q, um)
+    }
+
+    /// The local coefficient is the derivative of ln eta (central difference, relative step
+    /// 1e-5: truncation ~1e-10, rounding ~1e-11 of alpha), and equals alpha0 at zero pressure.
+    #[test]
+    fn local_alpha_is_the_slope_of_ln_eta() {
+        let c = law(100.0, 9.21);
+        for xi in [0.0, 0.5, 0.9] {
+            let f = c.strip(xi);
+            let p = f.pressure;
+            let d = 1e-5 * p;
+            let at = |p: f64| {
+                let x: f64 = 1.0 + p / ROELANDS_PRESSURE;
+                c.ln_eta0 + c.roelands_c * (x.powf(c.z) - 1.0)
+            };
+            let slope = (at(p + d) - at(p - d)) / (2.0 * d);
+            assert!(
+                (f.alpha / slope - 1.0).abs() < 1e-8,
+                "{xi}: {} {slope}",
+                f.alpha
+            );
+            assert!((f.viscosity.ln() - at(p)).abs() < 1e-12);
+        }
+        let x0 = law(100.0, 9.21).strip(1.0);
+        assert_eq!(x0.pressure, 0.0);
+        assert!((x0.alpha / 1.5e-8 - 1.0).abs() < 1e-12);
+    }
+
+    /// Linear in slip with slope eta/(h p) at small slip, logarithmic above the Eyring
+    /// stress, never above Lambda; mu/s continuous where the series switches in.
+    #[test]
+    fn shape_of_the_strip_law() {
+        let c = law(100.0, 9.21);
+        let f = c.strip(0.3);
+        let slope = f.viscosity / (c.h * f.pressure);
+        assert!((c.mu_over_s(0.3, 0.0) / slope - 1.0).abs() < 1e-15);
+        assert!((c.mu(0.3, 1e-9) / (slope * 1e-9) - 1.0).abs() < 1e-6);
+        assert!(c.mu(0.3, 10.0) == 0.047 && c.mu(0.3, 1e-3) < 0.047);
+        let k = f.viscosity / (f.eyring_stress * c.h);
+        let s_switch = 1e-4 / k;
+        let below = c.mu_over_s(0.3, s_switch * (1.0 - 1e-9));
+        let above = c.mu_over_s(0.3, s_switch * (1.0 + 1e-9));
+        assert!((below / above - 1.0).abs() < 1e-9);
+    }
+}
