@@ -6,7 +6,7 @@ use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
 use super::rolling_resistance::RollingResistance;
 use super::strips::Strips;
-use super::traction::{film_mu_over_s, ContactTraction, TractionLaw};
+use super::traction::TractionLaw;
 use nalgebra::{Matrix3, Vector3};
 
 /// Constant data of one raceway.
@@ -329,7 +329,6 @@ pub fn strip_traction(
     u: &Vector3<f64>,
     t: &Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
-    let law = race.traction.at(q, um);
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
     let a = race.hertz.a_coef * cube_root(q);
@@ -358,14 +357,17 @@ pub fn strip_traction(
         q,
         c: [c0, c1, c2],
     };
-    let (f_tr, f_h, f_y) = match law {
-        ContactTraction::Curve(curve) => strips.sum(|_, s| curve.mu_over_s(s)),
-        ContactTraction::Film {
-            slope,
-            pressure_over_eyring,
-            limiting,
-        } => strips.sum(|_, s| film_mu_over_s(slope, pressure_over_eyring, limiting, s)),
-        ContactTraction::Rheology(film) => strips.sum(|chord, s| film.mu_over_s_chord(chord, s)),
+    // (matched on the pair's law, so the curve builds no per-contact state)
+    let (f_tr, f_h, f_y) = match &race.traction {
+        TractionLaw::Curve(curve) => strips.sum(|_, s| curve.mu_over_s(s)),
+        TractionLaw::Film(law) => {
+            let film = law.at(q, um);
+            strips.sum(|_, s| film.mu_over_s(0.0, s))
+        }
+        TractionLaw::Rheology(law) => {
+            let film = law.at(q, um);
+            strips.sum(|xi, s| film.mu_over_s(xi, s))
+        }
     };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
     // the ring takes each strip's reaction at r_pr = ball_to_ring + r_pb
@@ -407,13 +409,12 @@ impl StripSums<'_> {
         let mut f_h = Vector3::zeros();
         let mut f_y = Vector3::zeros();
         let strips = &self.p.strips;
-        for ((xi, weight), chord) in strips
+        for (xi, weight) in strips
             .xi
             .chunks(STRIP_CHUNK)
             .zip(strips.weight.chunks(STRIP_CHUNK))
-            .zip(strips.chord.chunks(STRIP_CHUNK))
         {
-            let n = xi.len().min(weight.len()).min(chord.len());
+            let n = xi.len().min(weight.len());
             let mut h = [0.0; STRIP_CHUNK];
             let mut y = [0.0; STRIP_CHUNK];
             let mut v = [Vector3::zeros(); STRIP_CHUNK];
@@ -428,7 +429,7 @@ impl StripSums<'_> {
             // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
             let mut g = [0.0; STRIP_CHUNK];
             for k in 0..n {
-                g[k] = self.q * weight[k] * mu_over_s(chord[k], speed[k]);
+                g[k] = self.q * weight[k] * mu_over_s(xi[k], speed[k]);
             }
             for k in 0..n {
                 let tr = g[k] * v[k];
@@ -540,8 +541,7 @@ mod tests {
             let v_ring = ring.velocity + ring.spin * ring_axis.cross(&r_pr);
             let mut v = v_ring - v_ball;
             v -= v.dot(u) * u;
-            let chord = (1.0 - (y / a_eff).powi(2)).max(0.0).sqrt();
-            let tr = (q * w * law.mu_over_s(chord, v.norm())) * v;
+            let tr = (q * w * law.mu_over_s(y / a_eff, v.norm())) * v;
             f_tr += tr;
             m_ball += r_pb.cross(&tr);
             m_ring -= r_pr.cross(&tr);

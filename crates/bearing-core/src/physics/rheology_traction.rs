@@ -175,8 +175,8 @@ impl ContactRheology {
         }
     }
 
-    /// `mu(s) / s` of the strip with half-chord ratio `chord` (see [`ContactRheology::film`];
-    /// the strip loop's form, the chord being fixed per strip), finite at s = 0, 1/(m/s).
+    /// `mu(s) / s` of the strip with half-chord ratio `chord` (see [`ContactRheology::film`]),
+    /// finite at s = 0, 1/(m/s).
     ///
     /// Arana's eq. 13 per strip, `mu = min((tau_E/p) asinh(z), Lambda)` with
     /// `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
@@ -205,7 +205,10 @@ impl ContactRheology {
         }
     }
 
-    /// `mu(s) / s` of the strip at `xi` (fraction of the semi-major axis), 1/(m/s).
+    /// `mu(s) / s` of the strip at `xi` (fraction of the semi-major axis), 1/(m/s): the strip
+    /// loop's form (the square root costs little beside the law's logarithms and
+    /// exponentials, and keeps the curve's loop free of a column it does not read).
+    #[inline(always)]
     pub fn mu_over_s(&self, xi: f64, s: f64) -> f64 {
         self.mu_over_s_chord((1.0 - xi * xi).max(0.0).sqrt(), s)
     }

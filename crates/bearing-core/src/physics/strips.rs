@@ -31,9 +31,6 @@ pub struct Strips {
     pub xi: Vec<f64>,
     /// Load shares, summing to 1.
     pub weight: Vec<f64>,
-    /// Each sample's half-chord along the rolling direction over the centre's,
-    /// `sqrt(1 - xi^2)` (a strip's mean pressure over the centre strip's).
-    pub chord: Vec<f64>,
 }
 
 impl Strips {
@@ -44,11 +41,7 @@ impl Strips {
             StripRule::Equal => Strips::equal(n),
             StripRule::Gauss => Strips::gauss_jacobi(n),
         };
-        Strips {
-            chord: xi.iter().map(|x| (1.0 - x * x).max(0.0).sqrt()).collect(),
-            xi,
-            weight,
-        }
+        Strips { xi, weight }
     }
 
     fn equal(n: usize) -> (Vec<f64>, Vec<f64>) {

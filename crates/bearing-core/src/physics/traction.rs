@@ -187,12 +187,12 @@ pub enum ContactTraction {
 }
 
 impl ContactTraction {
-    /// `mu(s) / s` of a strip whose half-chord along the rolling direction is `chord` times
-    /// the centre strip's (read by the rheology law only), finite at s = 0, 1/(m/s).
+    /// `mu(s) / s` of the strip at `xi` of the semi-major axis (read by the rheology law
+    /// only), finite at s = 0, 1/(m/s).
     #[inline]
-    pub fn mu_over_s(&self, chord: f64, s: f64) -> f64 {
+    pub fn mu_over_s(&self, xi: f64, s: f64) -> f64 {
         match *self {
-            ContactTraction::Rheology(r) => r.mu_over_s_chord(chord, s),
+            ContactTraction::Rheology(r) => r.mu_over_s(xi, s),
             ContactTraction::Curve(c) => c.mu_over_s(s),
             ContactTraction::Film {
                 slope,
@@ -287,9 +287,9 @@ mod tests {
         let vi = 0.03 * (1.5e-8 * p).exp() / (h * p);
         let slope = el * vi / (el + vi);
         let law = f.at(q, um);
-        let mu = |s: f64| law.mu_over_s(1.0, s) * s;
+        let mu = |s: f64| law.mu_over_s(0.0, s) * s;
         // linear at small slip with the series slope
-        assert!((law.mu_over_s(1.0, 0.0) / slope - 1.0).abs() < 1e-12);
+        assert!((law.mu_over_s(0.0, 0.0) / slope - 1.0).abs() < 1e-12);
         assert!((mu(1e-9) / (slope * 1e-9) - 1.0).abs() < 1e-6);
         // Eyring region by hand, and the limiting shear stress at large slip
         let s = 0.01;
@@ -305,8 +305,8 @@ mod tests {
         );
         // mu / s continuous where the Eyring and the tanh series switch in
         for z_switch in [1e-4 / (slope * p / 5e6), 1e-4 * 0.07 / slope] {
-            let below = law.mu_over_s(1.0, z_switch * (1.0 - 1e-9));
-            let above = law.mu_over_s(1.0, z_switch * (1.0 + 1e-9));
+            let below = law.mu_over_s(0.0, z_switch * (1.0 - 1e-9));
+            let above = law.mu_over_s(0.0, z_switch * (1.0 + 1e-9));
             assert!((below / above - 1.0).abs() < 1e-9);
         }
     }
