@@ -65,6 +65,16 @@ fn unauthorized(detail: &str) -> Response {
     res
 }
 
+/// The token of an `Authorization: Bearer <token>` value. The scheme is case-insensitive
+/// (RFC 7235 section 2.1): `bearer` and `BEARER` name it too.
+fn bearer_token(value: &str) -> Option<&str> {
+    let (scheme, token) = value.trim_start().split_once(' ')?;
+    scheme
+        .eq_ignore_ascii_case("bearer")
+        .then(|| token.trim())
+        .filter(|t| !t.is_empty())
+}
+
 /// With tokens configured, every `/v1` request needs `Authorization: Bearer <token>`
 /// (token-less GETs too, unless `--open-reads`); health, metrics, the OpenAPI document
 /// and the web page stay open.
@@ -74,11 +84,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
     }
     let caller = match req.headers().get(header::AUTHORIZATION) {
         Some(v) => {
-            let token = v
-                .to_str()
-                .ok()
-                .and_then(|s| s.strip_prefix("Bearer "))
-                .map(str::trim);
+            let token = v.to_str().ok().and_then(bearer_token);
             let Some(token) = token else {
                 return unauthorized("the Authorization header must be 'Bearer <token>'");
             };
@@ -104,4 +110,19 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
     };
     req.extensions_mut().insert(caller);
     next.run(req).await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bearer_token;
+
+    #[test]
+    fn the_bearer_scheme_is_case_insensitive() {
+        for v in ["Bearer bs_x", "bearer bs_x", "BEARER  bs_x "] {
+            assert_eq!(bearer_token(v), Some("bs_x"), "{v}");
+        }
+        for v in ["Basic YTpi", "Bearer", "Bearer ", "Bearerbs_x"] {
+            assert_eq!(bearer_token(v), None, "{v}");
+        }
+    }
 }

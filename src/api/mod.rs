@@ -5,10 +5,12 @@
 #![allow(clippy::result_large_err)]
 
 mod analyses;
+mod analysis_sense;
 mod budget;
 mod caller;
 mod direct;
 mod extract;
+mod input_bounds;
 mod job_resource;
 mod middleware;
 pub mod openapi;
@@ -23,6 +25,7 @@ mod scene_input;
 mod simulation_plots;
 mod simulations;
 mod state;
+mod strict_json;
 mod studies;
 mod study_views;
 mod submission;

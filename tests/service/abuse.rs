@@ -1,0 +1,251 @@
+//! Issue 38's attacks, each reproduced against the service and shown to fail: unbounded
+//! names, ids that tell "not yours" from "not there", meaningless physics answered with
+//! confidence, and the minor protocol slips.
+
+use crate::common::*;
+use serde_json::{json, Value};
+use std::time::Duration;
+
+/// Documented bound of one job in a listing (docs/reference/operations.md, "Listings").
+const MAX_JOB_VIEW_BYTES: usize = 14_736;
+
+#[tokio::test]
+async fn a_huge_scene_name_is_refused_and_a_listing_has_a_bounded_size() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let sims = app.url("/v1/simulations");
+
+    // the issue's attack: a 1 MiB name (a 30 MiB one grew the database by 100 MB a job)
+    let huge = "x".repeat(1 << 20);
+    let body = json!({"preset": "h7005c", "overrides": {"name": huge}});
+    let (st, h, p) = post_json(&c, &sims, &body).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["overrides.name"], 0, "at most 200 characters");
+    assert!(p.to_string().len() < 2000, "the refusal echoes the name");
+    // inline, and one character over the bound
+    let (_, _, preset) = get_json(&c, &app.url("/v1/presets/h7005c")).await;
+    let mut scene = preset["scene"].clone();
+    assert!(scene.is_object(), "{preset}");
+    scene["name"] = json!("é".repeat(201));
+    let (st, h, p) = post_json(&c, &sims, &json!({ "scene": scene })).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["scene.name"], 0, "at most 200 characters");
+    // arrays too: a study factor of 10 000 values is named before it is expanded
+    let mut study = axial_load_study(0.02, &[300.0]);
+    study["design"]["factors"][0]["values"] = json!(vec![300.0; 10_000]);
+    let (st, h, p) = post_json(&c, &app.url("/v1/studies"), &study).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["design.factors[0].values"], 0, "at most 512");
+
+    // A listing of jobs whose names are at the bound, of characters JSON escapes to six
+    // bytes: every job within the documented size.
+    let n = 5;
+    for i in 0..n {
+        let name = format!("{i}{}", "\u{1}".repeat(199));
+        let body =
+            json!({"preset": "h7005c", "overrides": {"name": name, "solver": {"duration": 0.02}}});
+        let (st, _, job) = post_json(&c, &sims, &body).await;
+        assert_eq!(st, 202, "{job}");
+    }
+    let r = c.get(format!("{sims}?limit=500")).send().await.unwrap();
+    let bytes = r.bytes().await.unwrap();
+    let page: Value = serde_json::from_slice(&bytes).unwrap();
+    assert_eq!(page["items"].as_array().unwrap().len(), n, "{page}");
+    assert!(
+        bytes.len() <= n * MAX_JOB_VIEW_BYTES + 256,
+        "{} bytes for {n} jobs",
+        bytes.len()
+    );
+    eprintln!(
+        "listing of {n} jobs with 200-character names: {} bytes",
+        bytes.len()
+    );
+}
+
+/// Two tokens as `--tokens` takes them, and the tokens themselves.
+fn two_tokens() -> (String, &'static str, &'static str) {
+    let (a, b) = ("bs_token-of-lab-a", "bs_token-of-lab-b");
+    let list = format!(
+        "lab-a:{},lab-b:{}",
+        bearing_sim::config::hash_token(a),
+        bearing_sim::config::hash_token(b)
+    );
+    (list, a, b)
+}
+
+#[tokio::test]
+async fn another_tenants_id_and_an_unknown_id_answer_the_same_404() {
+    let (list, a, b) = two_tokens();
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0", "--tokens", &list]);
+    let c = client();
+    let sims = app.url("/v1/simulations");
+    // the scheme is case-insensitive (RFC 7235): lab-a writes with "bearer"
+    let r = c
+        .post(&sims)
+        .header("authorization", format!("bearer {a}"))
+        .json(&short_scene(0.02))
+        .send()
+        .await
+        .unwrap();
+    let (st, _, job) = decode(r).await;
+    assert_eq!(st, 202, "{job}");
+    let theirs = job["id"].as_str().unwrap().to_string();
+    let unknown = "019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71".to_string();
+
+    // Every way of reaching the job: the answers to b differ only by the id itself.
+    let mut answers = Vec::new();
+    for id in [&theirs, &unknown] {
+        let one = format!("{sims}/{id}");
+        let mut seen = Vec::new();
+        for req in [
+            c.get(&one),
+            c.delete(&one),
+            c.post(format!("{one}/cancel")),
+            c.get(format!("{one}/result")),
+            c.get(format!("{one}/signals?channel=x")),
+            c.get(format!("{one}/spectra")),
+            c.get(app.url(&format!("/v1/analyses/{id}"))),
+        ] {
+            let (st, h, p) = decode(req.bearer_auth(b).send().await.unwrap()).await;
+            assert_problem(st, &h, &p, 404);
+            seen.push(p.to_string().replace(id.as_str(), "ID"));
+        }
+        answers.push(seen);
+    }
+    assert_eq!(answers[0], answers[1]);
+    eprintln!(
+        "404 for another tenant's id and an unknown id: {}",
+        answers[0][0]
+    );
+}
+
+#[tokio::test]
+async fn duplicate_members_are_refused_naming_the_member() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let body =
+        r#"{"preset": "h7005c", "overrides": {"solver": {"duration": 0.02, "duration": 5}}}"#;
+    let r = c
+        .post(app.url("/v1/simulations"))
+        .header("content-type", "application/json")
+        .body(body)
+        .send()
+        .await
+        .unwrap();
+    let (st, h, p) = decode(r).await;
+    assert_problem(st, &h, &p, 400);
+    assert!(
+        p["detail"]
+            .as_str()
+            .unwrap()
+            .contains("'duration' given twice"),
+        "{p}"
+    );
+    // the object that holds the member twice
+    assert_eq!(error_paths(&p), ["overrides.solver"], "{p}");
+    // nothing was queued
+    let (_, _, page) = get_json(&c, &app.url("/v1/simulations")).await;
+    assert_eq!(page["items"].as_array().unwrap().len(), 0, "{page}");
+}
+
+#[tokio::test]
+async fn a_signal_window_that_ends_before_it_starts_is_refused() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "1"]);
+    let c = client();
+    let id = submit(&c, &app, &short_scene(0.02)).await;
+    let job = wait_finished(&c, &app, &id, Duration::from_secs(120)).await;
+    assert_eq!(job["state"], "succeeded", "{job}");
+    let signals = app.url(&format!(
+        "/v1/simulations/{id}/signals?channel=outer_ring_accel_z"
+    ));
+    let (st, _, ok) = get_json(&c, &format!("{signals}&from=0.01&to=0.02")).await;
+    assert_eq!(st, 200, "{ok}");
+    let (st, h, p) = get_json(&c, &format!("{signals}&from=0.02&to=0.01")).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["to"], 0, "before from");
+}
+
+/// A 4096-sample signal of the CWRU rig's kind as JSON, with `extra` members.
+fn analysis(extra: Value) -> Value {
+    let samples: Vec<f64> = (0..4096).map(|i| (i as f64 * 0.37).sin()).collect();
+    let mut body = json!({"samples": samples, "sample_rate": 12000.0, "preset": "cwru6205", "shaft_rpm": 1797.0});
+    for (k, v) in extra.as_object().unwrap() {
+        body[k] = v.clone();
+    }
+    body
+}
+
+#[tokio::test]
+async fn physically_meaningless_inputs_are_refused_naming_their_field() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let analyses = app.url("/v1/analyses");
+    // the well-posed request is answered
+    let (st, _, ok) = post_json(&c, &analyses, &analysis(json!({}))).await;
+    assert_eq!(st, 200, "{ok}");
+
+    let mut huge = analysis(json!({}));
+    huge["samples"][100] = json!(1e308);
+    huge["samples"][101] = json!(-1e308);
+    let cases = [
+        // 1 Hz: every fault line above Nyquist
+        (
+            analysis(json!({"sample_rate": 1.0})),
+            "sample_rate",
+            "Nyquist",
+        ),
+        // 16 samples at 12 kHz: bins of 750 Hz, wider than every line
+        (
+            analysis(json!({"samples": vec![0.5; 16]})),
+            "samples",
+            "one spectral bin",
+        ),
+        (huge, "samples[100]", "overflows"),
+        (
+            analysis(json!({"shaft_rpm": 1e12})),
+            "shaft_rpm",
+            "faster than any",
+        ),
+    ];
+    for (body, path, hint) in cases {
+        let (st, h, p) = post_json(&c, &analyses, &body).await;
+        assert_problem(st, &h, &p, 422);
+        assert_errors_name(&p, &[path], 0, hint);
+    }
+    // the raw form is checked alike
+    let raw: Vec<u8> = (0..4096)
+        .flat_map(|i| ((i as f32 * 0.37).sin()).to_le_bytes())
+        .collect();
+    let r = c
+        .post(format!(
+            "{analyses}?sample_rate=1&preset=cwru6205&shaft_rpm=1797"
+        ))
+        .header("content-type", "application/octet-stream")
+        .body(raw)
+        .send()
+        .await
+        .unwrap();
+    let (st, h, p) = decode(r).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["sample_rate"], 0, "Nyquist");
+
+    // scenes: 1e12 N, a 1 m deep defect, a run shorter than one output sample
+    let qs = json!({"preset": "h7005c", "overrides": {"operating": {"axial_load": 1e12}}});
+    let (st, h, p) = post_json(&c, &app.url("/v1/quasi-static"), &qs).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["scene.operating.axial_load"], 0, "static capacity");
+    let sims = app.url("/v1/simulations");
+    let deep = json!({"preset": "h7005c", "overrides": {"faults": [{"ring": "inner", "angle": 0.0, "width": 2e-4, "depth": 1.0}]}});
+    let (st, h, p) = post_json(&c, &sims, &deep).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["scene.faults[0].depth"], 0, "what a ball can feel");
+    let short = json!({"preset": "h7005c", "overrides": {"solver": {"duration": 5e-324}}});
+    let (st, h, p) = post_json(&c, &sims, &short).await;
+    assert_problem(st, &h, &p, 422);
+    assert_errors_name(&p, &["scene.solver.duration"], 0, "one output sample");
+}
