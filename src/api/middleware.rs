@@ -1,5 +1,6 @@
 //! Middleware: problem+json for errors produced outside handlers, latency metrics.
 
+use super::database_watch::DatabaseWatch;
 use super::problem::{Problem, PROBLEM_JSON};
 use super::state::AppState;
 use axum::extract::{MatchedPath, Request, State};
@@ -7,6 +8,26 @@ use axum::http::{header, StatusCode};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use std::time::Instant;
+
+/// While the database does not answer, a request that needs it gets 503 with
+/// `Retry-After` at once, and one in flight when it goes away gets it then (instead of
+/// hanging on a connection that will not answer until the request timeout).
+pub async fn answer_without_database(
+    State(state): State<AppState>,
+    req: Request,
+    next: Next,
+) -> Response {
+    if !DatabaseWatch::needed_by(req.uri().path()) {
+        return next.run(req).await;
+    }
+    if !state.database.is_up() {
+        return DatabaseWatch::unavailable().into_response();
+    }
+    tokio::select! {
+        res = next.run(req) => res,
+        () = state.database.went_away() => DatabaseWatch::unavailable().into_response(),
+    }
+}
 
 /// Rewrites any error response that is not problem+json yet (axum's extractor
 /// rejections, 405, 408 from the timeout, 413 from the body limit) into one, keeping

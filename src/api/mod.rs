@@ -8,6 +8,7 @@ mod analyses;
 mod analysis_sense;
 mod budget;
 mod caller;
+mod database_watch;
 mod direct;
 mod extract;
 mod input_bounds;
@@ -32,5 +33,6 @@ mod submission;
 mod views;
 mod web;
 
+pub use database_watch::DatabaseWatch;
 pub use router::router;
 pub use state::AppState;

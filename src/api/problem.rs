@@ -170,6 +170,16 @@ impl Problem {
         )
     }
 
+    /// 503 while the database cannot be reached: a client should retry (the pool
+    /// reconnects by itself once the database is back).
+    pub fn database_unreachable(e: &StoreError) -> Problem {
+        let mut p = Problem::unavailable(format!(
+            "the database is not reachable ({e}); retry shortly"
+        ));
+        p.retry_after = Some(DATABASE_RETRY_AFTER);
+        p
+    }
+
     pub fn status(&self) -> StatusCode {
         StatusCode::from_u16(self.status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR)
     }
@@ -236,6 +246,10 @@ impl From<StoreError> for Problem {
                 format!("this Idempotency-Key was used for a different request (job {id})"),
             ),
             e @ StoreError::LeaseLost => Problem::internal(e.to_string()),
+            e if e.is_unreachable() => {
+                tracing::warn!(error = %e, "database unreachable");
+                Problem::database_unreachable(&e)
+            }
             e @ (StoreError::Db(_) | StoreError::Migrate(_) | StoreError::Url(_)) => {
                 tracing::error!(error = %e, "store error");
                 Problem::internal("database error")
@@ -245,6 +259,9 @@ impl From<StoreError> for Problem {
 }
 
 pub type ApiResult<T> = Result<T, Problem>;
+
+/// `Retry-After` (s) of a 503 for an unreachable database: about a restart's time.
+pub const DATABASE_RETRY_AFTER: u64 = 2;
 
 #[cfg(test)]
 mod tests {

@@ -36,6 +36,10 @@ pub fn router(state: AppState) -> Router {
             state.clone(),
             super::caller::authenticate,
         ))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            middleware::answer_without_database,
+        ))
         .layer(TraceLayer::new_for_http())
         .layer(axum::middleware::from_fn(
             middleware::problem_for_every_error,

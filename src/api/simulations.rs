@@ -7,7 +7,7 @@ use super::openapi::params::{
     IdempotencyKey, IfNoneMatch, JobId, ListQuery, SignalsQuery, SpectraQuery, WaitQuery,
 };
 use super::openapi::responses::{
-    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, Unavailable, UnsupportedMediaType,
 };
 use super::problem::{ApiResult, Problem};
 use super::results::{self, SimulationResult, SpectrumView};
@@ -154,6 +154,7 @@ pub fn sample_window(
         (status = 415, response = UnsupportedMediaType),
         (status = 422, response = Invalid),
         (status = 429, response = QueueFull),
+        (status = 503, response = Unavailable),
     )
 )]
 pub async fn submit(

@@ -1,5 +1,6 @@
 //! What every handler shares.
 
+use super::database_watch::DatabaseWatch;
 use super::problem::Problem;
 use crate::config::{Config, Tokens};
 use crate::metrics::Metrics;
@@ -17,6 +18,8 @@ pub struct AppState {
     pub tokens: Arc<Tokens>,
     /// Wakes idle workers when a job is queued.
     pub wake: Arc<Notify>,
+    /// Whether the database answers (requests that need it get 503 while it does not).
+    pub database: DatabaseWatch,
     /// False once shutdown began (readiness).
     pub ready: Arc<AtomicBool>,
     /// Bounds large transfers in flight: big request bodies, channel and spectrum answers.

@@ -5,7 +5,7 @@ use super::extract::{parse_bounded, require_json, QueryParams};
 use super::job_resource::{long_poll, paging};
 use super::openapi::params::{IfNoneMatch, PlotName, StudyId, StudyListQuery, WaitQuery};
 use super::openapi::responses::{
-    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, Unavailable, UnsupportedMediaType,
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
 use super::state::AppState;
@@ -64,6 +64,7 @@ use bearing_core::study::{plan, to_csv, StudyRequest, StudyTable, StudyTableRow}
         (status = 415, response = UnsupportedMediaType),
         (status = 422, response = Invalid),
         (status = 429, response = QueueFull),
+        (status = 503, response = Unavailable),
     )
 )]
 pub async fn submit(

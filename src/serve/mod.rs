@@ -12,7 +12,7 @@ pub use error::ServeError;
 use signal::shutdown_signal;
 pub use worker_node::{run_worker_node, run_worker_node_until};
 
-use crate::api::{self, AppState};
+use crate::api::{self, AppState, DatabaseWatch};
 use crate::config::Config;
 use crate::jobs::{WorkerEnv, WorkerPool};
 use crate::metrics::Metrics;
@@ -60,6 +60,7 @@ pub async fn run_until(
     .await;
     let metrics_for_server = metrics.clone();
     let state = AppState {
+        database: DatabaseWatch::start(store.clone()),
         store,
         config: config.clone(),
         metrics,

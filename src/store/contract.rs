@@ -38,6 +38,28 @@ pub enum StoreError {
     Url(String),
 }
 
+impl StoreError {
+    /// The database could not be reached (down, restarting, or no connection free within
+    /// the pool's wait), as opposed to refusing a statement: worth retrying later.
+    pub fn is_unreachable(&self) -> bool {
+        match self {
+            StoreError::Db(e) => match e {
+                sqlx::Error::PoolTimedOut
+                | sqlx::Error::PoolClosed
+                | sqlx::Error::Io(_)
+                | sqlx::Error::Tls(_)
+                | sqlx::Error::WorkerCrashed => true,
+                // PostgreSQL shutting down, starting up, or out of connection slots
+                sqlx::Error::Database(d) => d
+                    .code()
+                    .is_some_and(|c| c.starts_with("57P") || c == "53300"),
+                _ => false,
+            },
+            _ => false,
+        }
+    }
+}
+
 #[async_trait]
 pub trait Store: Send + Sync + 'static {
     /// Check the database answers (readiness).

@@ -249,3 +249,86 @@ async fn physically_meaningless_inputs_are_refused_naming_their_field() {
     assert_problem(st, &h, &p, 422);
     assert_errors_name(&p, &["scene.solver.duration"], 0, "one output sample");
 }
+
+/// Status, `Retry-After` and seconds taken of one request.
+async fn timed(req: reqwest::RequestBuilder) -> (u16, Option<String>, f64, Value) {
+    let t = std::time::Instant::now();
+    let r = req.send().await.unwrap();
+    let retry = r
+        .headers()
+        .get("retry-after")
+        .map(|v| v.to_str().unwrap().to_string());
+    let (st, _, body) = decode(r).await;
+    (st, retry, t.elapsed().as_secs_f64(), body)
+}
+
+/// With the database away, readiness and a submission answer 503 with `Retry-After`
+/// within the 2 s, and liveness answers at once; returns the two times.
+async fn answered_fast_without_the_database(c: &reqwest::Client, app: &TestApp) -> (f64, f64) {
+    // The bound is 2 s (they answered 408 after 30 s). The service sees the
+    // database away within 1.5 s; the rest is slack for a loaded machine.
+    let (st, retry, post_secs, p) =
+        timed(c.post(app.url("/v1/simulations")).json(&short_scene(0.02))).await;
+    assert_eq!(st, 503, "{p}");
+    assert_eq!(retry.as_deref(), Some("2"), "{p}");
+    assert!(
+        post_secs < 2.0,
+        "a submission took {post_secs:.2} s without the database"
+    );
+    let (st, retry, ready_secs, p) = timed(c.get(app.url("/readyz"))).await;
+    assert_eq!(st, 503, "{p}");
+    assert_eq!(retry.as_deref(), Some("2"), "{p}");
+    assert!(
+        ready_secs < 2.0,
+        "/readyz took {ready_secs:.2} s without the database"
+    );
+    let (st, _, live_secs, _) = timed(c.get(app.url("/healthz"))).await;
+    assert_eq!(st, 200);
+    assert!(live_secs < 1.0, "/healthz took {live_secs:.2} s");
+    (ready_secs, post_secs)
+}
+
+/// Once the database is back, the same process is ready and runs work again.
+async fn work_resumes(c: &reqwest::Client, app: &TestApp) -> f64 {
+    let back = std::time::Instant::now();
+    loop {
+        let (st, _, _) = get_json(c, &app.url("/readyz")).await;
+        if st == 200 {
+            break;
+        }
+        assert!(
+            back.elapsed() < Duration::from_secs(30),
+            "not ready 30 s after the database returned"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let ready = back.elapsed().as_secs_f64();
+    let id = submit(c, app, &short_scene(0.02)).await;
+    let job = wait_finished(c, app, &id, Duration::from_secs(120)).await;
+    assert_eq!(job["state"], "succeeded", "{job}");
+    ready
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn without_the_database_readiness_and_submissions_answer_503_at_once_and_work_resumes() {
+    let Some(pg) = PgCluster::own() else { return };
+    let url = pg.new_database().await;
+    let app = TestApp::spawn_on(&url, &["--workers", "1"]);
+    let c = client();
+    let (st, _, _) = get_json(&c, &app.url("/readyz")).await;
+    assert_eq!(st, 200);
+
+    // stopped: connections are refused
+    pg.stop();
+    let (ready, post) = answered_fast_without_the_database(&c, &app).await;
+    pg.start_server().unwrap();
+    let back = work_resumes(&c, &app).await;
+    eprintln!("stopped: /readyz 503 in {ready:.2} s, POST 503 in {post:.2} s; ready {back:.2} s after the restart");
+
+    // frozen (a host gone away): connections hang, pooled ones too
+    pg.freeze();
+    let (ready, post) = answered_fast_without_the_database(&c, &app).await;
+    pg.thaw();
+    let back = work_resumes(&c, &app).await;
+    eprintln!("frozen: /readyz 503 in {ready:.2} s, POST 503 in {post:.2} s; ready {back:.2} s after the thaw");
+}
