@@ -26,7 +26,9 @@ pub struct WorkerConfig {
     #[arg(long, env = "BEARING_SIM_LEASE_SECS", default_value_t = 10.0)]
     pub lease_secs: f64,
 
-    /// Claims of one job before a lost lease fails it instead of requeueing it.
+    /// Deaths in a row of a job's worker, without the job getting further (1% more of
+    /// it than before), before the job is failed as one that kills its worker. A death
+    /// after headway (a restart, a SIGKILL, a lost host) never counts against the job.
     #[arg(long, env = "BEARING_SIM_MAX_ATTEMPTS", default_value_t = 3)]
     pub max_attempts: i64,
 

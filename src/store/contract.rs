@@ -120,7 +120,9 @@ pub trait Store: Send + Sync + 'static {
     /// Give a claimed job back to the queue without counting the attempt (shutdown).
     async fn release(&self, lease: &Lease) -> Result<(), StoreError>;
 
-    /// Requeue running jobs whose lease expired (failing those out of attempts).
+    /// Requeue running jobs whose lease expired: their worker died, which is not their
+    /// fault. A job whose worker died `max_attempts` times in a row without the job getting
+    /// further than before is failed instead (it appears to kill its worker).
     async fn recover_expired(&self, max_attempts: i64) -> Result<u64, StoreError>;
 
     async fn get_artifact(&self, id: &str, name: &str) -> Result<Option<Artifact>, StoreError>;
