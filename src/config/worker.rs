@@ -42,6 +42,12 @@ pub struct WorkerConfig {
     #[arg(long, env = "BEARING_SIM_RETENTION", default_value_t = 30.0 * 86400.0)]
     pub retention: f64,
 
+    /// Jobs one tenant (API token) may run at once across the database, so that another
+    /// tenant's job always finds a worker. Default: with tokens, one less than the workers
+    /// (at least 1); without tokens (one tenant) or on `bearing-sim worker`, no bound.
+    #[arg(long, env = "BEARING_SIM_TENANT_MAX_RUNNING")]
+    pub tenant_max_running: Option<usize>,
+
     /// Grace period on shutdown for running jobs to stop and be requeued, s.
     #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
     pub shutdown_grace: f64,
@@ -54,6 +60,12 @@ impl WorkerConfig {
                 .map(|n| n.get())
                 .unwrap_or(1)
         })
+    }
+
+    /// Most jobs one tenant may run at once (`i64::MAX`: no bound).
+    pub fn tenant_share(&self) -> i64 {
+        self.tenant_max_running
+            .map_or(i64::MAX, |n| n.max(1) as i64)
     }
 
     pub fn lease_ms(&self) -> i64 {

@@ -51,9 +51,14 @@ pub async fn run_until(
     let ready = Arc::new(AtomicBool::new(true));
     let workers = config.worker.worker_count();
 
+    let mut worker_config = config.worker.clone();
+    if !tokens.is_empty() && worker_config.tenant_max_running.is_none() {
+        // several tenants: keep a worker for the others
+        worker_config.tenant_max_running = Some(workers.saturating_sub(1).max(1));
+    }
     let pool = WorkerPool::start(WorkerEnv {
         store: store.clone(),
-        config: Arc::new(config.worker.clone()),
+        config: Arc::new(worker_config),
         metrics: metrics.clone(),
         wake: wake.clone(),
     })

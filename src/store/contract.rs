@@ -91,15 +91,28 @@ pub trait Store: Send + Sync + 'static {
     /// a study holds it as a point.
     async fn delete_job(&self, id: &str) -> Result<(), StoreError>;
 
-    /// Atomically take the oldest queued job whose input format is at most
-    /// `max_input_format` under a lease held by `owner`. Newer jobs are skipped, not
-    /// blocked on: the next older-format job behind them is taken.
+    /// Atomically take a queued job whose input format is at most `max_input_format`
+    /// under a lease held by `owner`: of the tenants running fewer than `tenant_share`
+    /// jobs, the one running fewest (round robin across tenants), its oldest job. Newer
+    /// formats are skipped, not blocked on.
+    async fn claim_shared(
+        &self,
+        owner: &str,
+        lease_ms: i64,
+        max_input_format: i64,
+        tenant_share: i64,
+    ) -> Result<Option<Claimed>, StoreError>;
+
+    /// [`Store::claim_shared`] with no bound on a tenant's running jobs.
     async fn claim_up_to(
         &self,
         owner: &str,
         lease_ms: i64,
         max_input_format: i64,
-    ) -> Result<Option<Claimed>, StoreError>;
+    ) -> Result<Option<Claimed>, StoreError> {
+        self.claim_shared(owner, lease_ms, max_input_format, i64::MAX)
+            .await
+    }
 
     /// [`Store::claim_up_to`] the formats this binary runs ([`INPUT_FORMAT`]).
     async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {

@@ -332,3 +332,78 @@ async fn without_the_database_readiness_and_submissions_answer_503_at_once_and_w
     let back = work_resumes(&c, &app).await;
     eprintln!("frozen: /readyz 503 in {ready:.2} s, POST 503 in {post:.2} s; ready {back:.2} s after the thaw");
 }
+
+/// The state of a job as `token` sees it.
+async fn state_as(c: &reqwest::Client, app: &TestApp, token: &str, id: &str) -> Value {
+    let url = app.url(&format!("/v1/simulations/{id}"));
+    decode(c.get(url).bearer_auth(token).send().await.unwrap())
+        .await
+        .2
+}
+
+/// How many of `token`'s simulations are in `state`.
+async fn count_as(c: &reqwest::Client, app: &TestApp, token: &str, state: &str) -> usize {
+    let url = app.url(&format!("/v1/simulations?state={state}"));
+    let (_, _, page) = decode(c.get(url).bearer_auth(token).send().await.unwrap()).await;
+    page["items"].as_array().unwrap().len()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_tenants_backlog_does_not_starve_anothers_short_job() {
+    let (list, a, b) = two_tokens();
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "2", "--tokens", &list]);
+    let c = client();
+    let sims = app.url("/v1/simulations");
+    // A: three long runs (5 s simulated, over half a minute each here), all it may run
+    // and more queued
+    let mut a_jobs = Vec::new();
+    for _ in 0..3 {
+        let r = c.post(&sims).bearer_auth(a).json(&short_scene(5.0));
+        let (st, _, job) = decode(r.send().await.unwrap()).await;
+        assert_eq!(st, 202, "{job}");
+        a_jobs.push(job["id"].as_str().unwrap().to_string());
+    }
+    let deadline = std::time::Instant::now() + Duration::from_secs(30);
+    while count_as(&c, &app, a, "running").await == 0 {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "A's jobs never started"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+
+    // B's 20 ms run: the bound is 20 s (it waited behind A's whole queue)
+    let t = std::time::Instant::now();
+    let r = c.post(&sims).bearer_auth(b).json(&short_scene(0.02));
+    let (st, _, job) = decode(r.send().await.unwrap()).await;
+    assert_eq!(st, 202, "{job}");
+    let id = job["id"].as_str().unwrap().to_string();
+    let job = loop {
+        let job = state_as(&c, &app, b, &id).await;
+        if matches!(
+            job["state"].as_str(),
+            Some("succeeded" | "failed" | "cancelled")
+        ) {
+            break job;
+        }
+        assert!(
+            t.elapsed() < Duration::from_secs(20),
+            "B's job after 20 s: {job}"
+        );
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    };
+    let waited = t.elapsed().as_secs_f64();
+    assert_eq!(job["state"], "succeeded", "{job}");
+    // meanwhile A held one worker (its share of two) and kept the rest queued
+    let (running, queued) = (
+        count_as(&c, &app, a, "running").await,
+        count_as(&c, &app, a, "queued").await,
+    );
+    assert_eq!((running, queued), (1, 2), "A's jobs while B's ran");
+    eprintln!("B's 20 ms job finished in {waited:.2} s while A ran {running} and queued {queued}");
+    for id in a_jobs {
+        let url = app.url(&format!("/v1/simulations/{id}/cancel"));
+        c.post(url).bearer_auth(a).send().await.unwrap();
+    }
+}

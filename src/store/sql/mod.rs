@@ -91,13 +91,14 @@ impl<B: Backend> Store for SqlStore<B> {
         jobs::delete(&self.pool, id).await
     }
 
-    async fn claim_up_to(
+    async fn claim_shared(
         &self,
         owner: &str,
         lease_ms: i64,
         max_input_format: i64,
+        tenant_share: i64,
     ) -> Result<Option<Claimed>, StoreError> {
-        queue::claim(&self.pool, owner, lease_ms, max_input_format).await
+        queue::claim(&self.pool, owner, lease_ms, max_input_format, tenant_share).await
     }
 
     async fn heartbeat(

@@ -21,13 +21,17 @@ fn fenced<'q, B: Backend>(sql: &'q str, lease: &'q Lease) -> Statement<'q, B> {
         .param(lease.attempt)
 }
 
-/// The job the next claim takes (its `seq`): the oldest queued one whose input format
-/// is at most `$4`, locked as the backend needs ([`Backend::CLAIM_LOCK`]). The one place
-/// that decides the order jobs are run in.
+/// The job the next claim takes (its `seq`), locked as the backend needs
+/// ([`Backend::CLAIM_LOCK`]): a queued one whose input format is at most `$4`, of a
+/// tenant running fewer than `$5` jobs; of those tenants the one running fewest first
+/// (round robin: one tenant's backlog never starves another's job), then the oldest.
+/// The one place that decides the order jobs are run in. Two claims at once (PostgreSQL)
+/// may both count a tenant below its share and let it run one more.
 fn next_claimable<B: Backend>() -> String {
+    let running = "(SELECT COUNT(*) FROM jobs r WHERE r.state = 'running' AND r.tenant = q.tenant)";
     format!(
-        "SELECT seq FROM jobs WHERE state = 'queued' AND input_format <= $4 \
-         ORDER BY seq LIMIT 1{}",
+        "SELECT q.seq FROM jobs q WHERE q.state = 'queued' AND q.input_format <= $4 \
+         AND {running} < $5 ORDER BY {running}, q.seq LIMIT 1{}",
         B::CLAIM_LOCK
     )
 }
@@ -37,6 +41,7 @@ pub(super) async fn claim<B: Backend>(
     owner: &str,
     lease_ms: i64,
     max_input_format: i64,
+    tenant_share: i64,
 ) -> Result<Option<Claimed>, StoreError> {
     let now = now_ms();
     let row = sqlx::query(&format!(
@@ -52,6 +57,7 @@ pub(super) async fn claim<B: Backend>(
     .param(lease_ms)
     .param(now)
     .param(max_input_format)
+    .param(tenant_share.max(1))
     .fetch_optional(B::on_pool(pool))
     .await?;
     row.map(|r| claimed_from_row(owner, &r)).transpose()
