@@ -17,6 +17,28 @@ use std::convert::Infallible;
 pub struct Caller {
     tenant: String,
     reads_all: bool,
+    share_key: String,
+}
+
+/// The address a request came from (set by the accept loop on every request).
+#[derive(Debug, Clone, Copy)]
+pub struct ClientAddr(pub std::net::IpAddr);
+
+/// Who a request counts against for the shares of limited resources (large transfers):
+/// its tenant when it names a configured token, otherwise its address. Tenants on one
+/// host (behind one proxy) keep separate shares; anonymous clients share by address.
+pub fn share_key(state: &AppState, req: &Request) -> String {
+    let tenant = req
+        .headers()
+        .get(header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(bearer_token)
+        .and_then(|t| state.tokens.name_of(t));
+    match (tenant, req.extensions().get::<ClientAddr>()) {
+        (Some(name), _) => format!("tenant {name}"),
+        (None, Some(ClientAddr(ip))) => format!("address {ip}"),
+        (None, None) => "address unknown".into(),
+    }
 }
 
 impl Caller {
@@ -29,6 +51,11 @@ impl Caller {
     /// so their ids reveal nothing.)
     pub fn may_see(&self, owner: &str) -> bool {
         self.reads_all || owner == self.tenant
+    }
+
+    /// Whom this request counts against for shared limits ([`share_key`]).
+    pub fn share_key(&self) -> &str {
+        &self.share_key
     }
 
     /// The tenant to scope a listing to (None: everyone's).
@@ -79,7 +106,12 @@ fn bearer_token(value: &str) -> Option<&str> {
 /// (token-less GETs too, unless `--open-reads`); health, metrics, the OpenAPI document
 /// and the web page stay open.
 pub async fn authenticate(State(state): State<AppState>, mut req: Request, next: Next) -> Response {
+    let share_key = share_key(&state, &req);
     if state.tokens.is_empty() || !req.uri().path().starts_with("/v1/") {
+        req.extensions_mut().insert(Caller {
+            share_key,
+            ..Caller::default()
+        });
         return next.run(req).await;
     }
     let caller = match req.headers().get(header::AUTHORIZATION) {
@@ -92,6 +124,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
                 Some(name) => Caller {
                     tenant: name.to_string(),
                     reads_all: false,
+                    share_key,
                 },
                 None => return unauthorized("the token is not configured on this service"),
             }
@@ -100,6 +133,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
             Caller {
                 tenant: String::new(),
                 reads_all: true,
+                share_key,
             }
         }
         None => {

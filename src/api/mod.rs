@@ -13,6 +13,7 @@ mod direct;
 mod extract;
 mod input_bounds;
 mod job_resource;
+mod large_transfers;
 mod middleware;
 pub mod openapi;
 mod ops;
@@ -33,6 +34,8 @@ mod submission;
 mod views;
 mod web;
 
+pub use caller::ClientAddr;
 pub use database_watch::DatabaseWatch;
+pub use large_transfers::LargeTransfers;
 pub use router::router;
 pub use state::AppState;

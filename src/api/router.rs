@@ -12,7 +12,7 @@ use tower_http::trace::TraceLayer;
 
 pub fn router(state: AppState) -> Router {
     let cfg = state.config.clone();
-    let timeout = Duration::from_secs_f64(cfg.request_timeout.max(0.1));
+    let timeout = cfg.request_deadline();
     let mut app = Router::new();
     for route in routes::table() {
         let handler = if route.long_poll {

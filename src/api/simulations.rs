@@ -239,7 +239,7 @@ pub async fn signals(
     }
     succeeded(&state, &caller, KIND, &id).await?;
     // a channel is up to 20 MB in memory while it is decimated: a few at a time
-    let _permit = state.large_transfer().await?;
+    let _permit = state.large_transfer(caller.share_key()).await?;
     let StoredChannel {
         data,
         sample_rate: fs,

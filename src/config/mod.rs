@@ -125,6 +125,11 @@ pub struct Config {
 }
 
 impl Config {
+    /// `--request-timeout` as a duration (at least 0.1 s).
+    pub fn request_deadline(&self) -> std::time::Duration {
+        std::time::Duration::from_secs_f64(self.request_timeout.max(0.1))
+    }
+
     /// The configured tokens (file and list), or why they cannot be read.
     pub fn load_tokens(&self) -> Result<Tokens, String> {
         let mut t = Tokens::parse(&self.tokens, "--tokens")?;

@@ -3,6 +3,7 @@
 //! 300 of them under a 256-descriptor limit made `/healthz` time out).
 
 use super::problem_io::ProblemIo;
+use crate::api::ClientAddr;
 use crate::metrics::Metrics;
 use axum::body::Body;
 use axum::extract::Request;
@@ -50,7 +51,7 @@ pub async fn serve(
     });
     let (close_tx, close_rx) = watch::channel(());
     loop {
-        let (stream, _peer) = tokio::select! {
+        let (stream, peer) = tokio::select! {
             accepted = listener.accept() => match accepted {
                 Ok(a) => a,
                 Err(e) => {
@@ -69,11 +70,13 @@ pub async fn serve(
             continue;
         };
         let _ = stream.set_nodelay(true);
-        let service = TowerToHyperService::new(
-            router
-                .clone()
-                .map_request(|r: Request<Incoming>| r.map(Body::new)),
-        );
+        let client = ClientAddr(peer.ip());
+        let service =
+            TowerToHyperService::new(router.clone().map_request(move |r: Request<Incoming>| {
+                let mut r = r.map(Body::new);
+                r.extensions_mut().insert(client);
+                r
+            }));
         let signal_tx = signal_tx.clone();
         let close_rx = close_rx.clone();
         let metrics = metrics.clone();

@@ -12,7 +12,7 @@ pub use error::ServeError;
 use signal::shutdown_signal;
 pub use worker_node::{run_worker_node, run_worker_node_until};
 
-use crate::api::{self, AppState, DatabaseWatch};
+use crate::api::{self, AppState, DatabaseWatch, LargeTransfers};
 use crate::config::Config;
 use crate::jobs::{WorkerEnv, WorkerPool};
 use crate::metrics::Metrics;
@@ -72,7 +72,7 @@ pub async fn run_until(
         wake,
         ready: ready.clone(),
         direct: Arc::new(Semaphore::new(config.direct_count())),
-        large: Arc::new(Semaphore::new(config.max_large_transfers.max(1))),
+        large: Arc::new(LargeTransfers::new(config.max_large_transfers)),
         openapi_yaml: api::openapi::yaml(),
         tokens: tokens.clone(),
     };

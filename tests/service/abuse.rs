@@ -4,6 +4,7 @@
 
 use crate::common::*;
 use serde_json::{json, Value};
+use std::io::Write;
 use std::time::Duration;
 
 /// Documented bound of one job in a listing (docs/reference/operations.md, "Listings").
@@ -406,4 +407,78 @@ async fn one_tenants_backlog_does_not_starve_anothers_short_job() {
         let url = app.url(&format!("/v1/simulations/{id}/cancel"));
         c.post(url).bearer_auth(a).send().await.unwrap();
     }
+}
+
+/// Raw f32 samples of an analysis body, `n` of them.
+fn raw_samples(n: usize) -> Vec<u8> {
+    (0..n)
+        .flat_map(|i| ((i as f32 * 0.37).sin()).to_le_bytes())
+        .collect()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn stalled_large_uploads_of_one_tenant_do_not_hold_up_another() {
+    let (list, a, b) = two_tokens();
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "1", "--tokens", &list]);
+    let c = client();
+    let r = c
+        .post(app.url("/v1/simulations"))
+        .bearer_auth(b)
+        .json(&short_scene(0.02));
+    let (_, _, job) = decode(r.send().await.unwrap()).await;
+    let id = job["id"].as_str().unwrap().to_string();
+    let deadline = std::time::Instant::now() + Duration::from_secs(120);
+    while state_as(&c, &app, b, &id).await["state"] != "succeeded" {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "B's run did not finish"
+        );
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    let spectra = app.url(&format!("/v1/simulations/{id}/spectra"));
+    let analyses = app.url("/v1/analyses?sample_rate=12000&preset=cwru6205&shaft_rpm=1797");
+    let upload = raw_samples(400_000); // 1.6 MB, over the 1 MiB of a large transfer
+    let b_upload = || {
+        c.post(&analyses)
+            .bearer_auth(b)
+            .header("content-type", "application/octet-stream")
+            .body(upload.clone())
+    };
+    let (st, _, alone, p) = timed(b_upload()).await;
+    assert_eq!(st, 202, "{p}");
+
+    // A: 12 uploads that send their headers (a 2 MB body announced) and stall
+    let addr = app.base.trim_start_matches("http://").to_string();
+    let stalled: Vec<std::net::TcpStream> = (0..12)
+        .map(|_| {
+            let mut s = std::net::TcpStream::connect(&addr).unwrap();
+            write!(
+                s,
+                "POST /v1/analyses?sample_rate=12000&preset=cwru6205&shaft_rpm=1797 HTTP/1.1\r\nHost: {addr}\r\nAuthorization: Bearer {a}\r\nContent-Type: application/octet-stream\r\nContent-Length: 2000000\r\n\r\n"
+            )
+            .unwrap();
+            s
+        })
+        .collect();
+    tokio::time::sleep(Duration::from_millis(500)).await;
+
+    // The bound for the small read: 3 s (it answered 408 after 30 s)
+    let (st, _, read, p) = timed(c.get(&spectra).bearer_auth(b)).await;
+    assert_eq!(st, 200, "{p}");
+    assert!(
+        read < 3.0,
+        "B's spectrum read took {read:.2} s during the stall"
+    );
+    // and B's upload its normal time (it took 89.5 s): generous for a loaded machine
+    let (st, _, during, p) = timed(b_upload()).await;
+    assert_eq!(st, 202, "{p}");
+    assert!(
+        during < 3.0 + 4.0 * alone,
+        "B's upload took {during:.2} s during the stall, {alone:.2} s alone"
+    );
+    eprintln!(
+        "during 12 stalled uploads of A: B's spectra in {read:.2} s, B's 1.6 MB upload in {during:.2} s ({alone:.2} s alone)"
+    );
+    drop(stalled);
 }
