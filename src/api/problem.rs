@@ -239,6 +239,16 @@ impl From<StoreError> for Problem {
                 p.retry_after = Some(5);
                 p
             }
+            StoreError::TenantQueueFull(n) => {
+                let mut p = Problem::new(
+                    StatusCode::TOO_MANY_REQUESTS,
+                    Some("tenant-queue-full"),
+                    "Queue share full",
+                    format!("your token has {n} jobs queued, its share of the queue (--tenant-max-queued); retry when some have started"),
+                );
+                p.retry_after = Some(5);
+                p
+            }
             StoreError::IdempotencyMismatch(id) => Problem::new(
                 StatusCode::UNPROCESSABLE_ENTITY,
                 Some("idempotency-key-reused"),

@@ -24,6 +24,9 @@ pub enum StoreError {
     StudyConflict { id: String, message: String },
     #[error("the queue is full ({0} jobs waiting)")]
     QueueFull(i64),
+    /// The tenant holds its share of the queue.
+    #[error("the tenant has {0} jobs queued, its share of the queue")]
+    TenantQueueFull(i64),
     /// Same Idempotency-Key, different request.
     #[error("Idempotency-Key was already used for a different request (job {0})")]
     IdempotencyMismatch(String),
@@ -76,7 +79,18 @@ pub trait Store: Send + Sync + 'static {
     /// Queue a job unless the queue holds `max_queued` jobs already. With an idempotency
     /// key already seen from the same tenant, returns the existing job (`created = false`) when the request hash
     /// matches and `IdempotencyMismatch` otherwise.
-    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError>;
+    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError> {
+        self.create_job_within(job, max_queued, i64::MAX).await
+    }
+
+    /// [`Store::create_job`], and unless the job's tenant has `tenant_max_queued` jobs
+    /// queued already (`TenantQueueFull`).
+    async fn create_job_within(
+        &self,
+        job: NewJob,
+        max_queued: i64,
+        tenant_max_queued: i64,
+    ) -> Result<Created, StoreError>;
 
     async fn get_job(&self, id: &str) -> Result<Job, StoreError>;
 

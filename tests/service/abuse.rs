@@ -482,3 +482,41 @@ async fn stalled_large_uploads_of_one_tenant_do_not_hold_up_another() {
     );
     drop(stalled);
 }
+
+#[tokio::test]
+async fn one_tenant_cannot_fill_the_queue_for_another() {
+    let (list, a, b) = two_tokens();
+    let (_dir, db) = temp_db();
+    // no workers: everything stays queued; a tenant's share is half of the 4
+    let app = TestApp::spawn(
+        &db,
+        &["--workers", "0", "--max-queued", "4", "--tokens", &list],
+    );
+    let c = client();
+    let sims = app.url("/v1/simulations");
+    let post = |token: &'static str| {
+        c.post(&sims)
+            .bearer_auth(token)
+            .json(&short_scene(0.02))
+            .send()
+    };
+    for _ in 0..2 {
+        assert_eq!(post(a).await.unwrap().status(), 202);
+    }
+    let r = post(a).await.unwrap();
+    let retry = r.headers().get("retry-after").cloned();
+    let (st, h, p) = decode(r).await;
+    assert_problem(st, &h, &p, 429);
+    assert!(retry.is_some(), "{p}");
+    assert!(
+        p["detail"]
+            .as_str()
+            .unwrap()
+            .contains("--tenant-max-queued"),
+        "{p}"
+    );
+    // B still gets its share
+    for _ in 0..2 {
+        assert_eq!(post(b).await.unwrap().status(), 202);
+    }
+}

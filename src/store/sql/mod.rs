@@ -71,8 +71,13 @@ impl<B: Backend> Store for SqlStore<B> {
         B::wake_on_new_work(&self.pool, &self.listener, wake).await
     }
 
-    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError> {
-        jobs::create(&self.pool, job, max_queued).await
+    async fn create_job_within(
+        &self,
+        job: NewJob,
+        max_queued: i64,
+        tenant_max_queued: i64,
+    ) -> Result<Created, StoreError> {
+        jobs::create(&self.pool, job, max_queued, tenant_max_queued).await
     }
 
     async fn get_job(&self, id: &str) -> Result<Job, StoreError> {
