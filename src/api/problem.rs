@@ -170,6 +170,13 @@ impl Problem {
         )
     }
 
+    /// 429 for a queue (or a tenant's share of it) that is full, retried after 5 s.
+    fn queue_full(slug: &'static str, title: &'static str, detail: String) -> Problem {
+        let mut p = Problem::new(StatusCode::TOO_MANY_REQUESTS, Some(slug), title, detail);
+        p.retry_after = Some(5);
+        p
+    }
+
     /// 503 while the database cannot be reached: a client should retry (the pool
     /// reconnects by itself once the database is back).
     pub fn database_unreachable(e: &StoreError) -> Problem {
@@ -229,26 +236,16 @@ impl From<StoreError> for Problem {
                 format!("job {id} is {state}: {message}"),
                 Some(state.as_str()),
             ),
-            StoreError::QueueFull(n) => {
-                let mut p = Problem::new(
-                    StatusCode::TOO_MANY_REQUESTS,
-                    Some("queue-full"),
-                    "Queue full",
-                    format!("{n} jobs are waiting; retry later"),
-                );
-                p.retry_after = Some(5);
-                p
-            }
-            StoreError::TenantQueueFull(n) => {
-                let mut p = Problem::new(
-                    StatusCode::TOO_MANY_REQUESTS,
-                    Some("tenant-queue-full"),
-                    "Queue share full",
-                    format!("your token has {n} jobs queued, its share of the queue (--tenant-max-queued); retry when some have started"),
-                );
-                p.retry_after = Some(5);
-                p
-            }
+            StoreError::QueueFull(n) => Problem::queue_full(
+                "queue-full",
+                "Queue full",
+                format!("{n} jobs are waiting; retry later"),
+            ),
+            StoreError::TenantQueueFull(n) => Problem::queue_full(
+                "tenant-queue-full",
+                "Queue share full",
+                format!("your token has {n} jobs queued, its share of the queue (--tenant-max-queued); retry when some have started"),
+            ),
             StoreError::IdempotencyMismatch(id) => Problem::new(
                 StatusCode::UNPROCESSABLE_ENTITY,
                 Some("idempotency-key-reused"),

@@ -64,17 +64,6 @@ async fn a_huge_scene_name_is_refused_and_a_listing_has_a_bounded_size() {
     );
 }
 
-/// Two tokens as `--tokens` takes them, and the tokens themselves.
-fn two_tokens() -> (String, &'static str, &'static str) {
-    let (a, b) = ("bs_token-of-lab-a", "bs_token-of-lab-b");
-    let list = format!(
-        "lab-a:{},lab-b:{}",
-        bearing_sim::config::hash_token(a),
-        bearing_sim::config::hash_token(b)
-    );
-    (list, a, b)
-}
-
 #[tokio::test]
 async fn another_tenants_id_and_an_unknown_id_answer_the_same_404() {
     let (list, a, b) = two_tokens();
