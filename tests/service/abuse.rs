@@ -509,3 +509,46 @@ async fn one_tenant_cannot_fill_the_queue_for_another() {
         assert_eq!(post(b).await.unwrap().status(), 202);
     }
 }
+
+/// `GET /healthz` over a fresh connection from the loopback address `from`: the status.
+async fn healthz_from(from: &str, addr: std::net::SocketAddr) -> Option<u16> {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let socket = tokio::net::TcpSocket::new_v4().ok()?;
+    socket.bind(format!("{from}:0").parse().unwrap()).ok()?;
+    let mut s = socket.connect(addr).await.ok()?;
+    s.write_all(b"GET /healthz HTTP/1.0\r\n\r\n").await.ok()?;
+    let mut reply = String::new();
+    tokio::time::timeout(Duration::from_secs(5), s.read_to_string(&mut reply))
+        .await
+        .ok()?
+        .ok()?;
+    reply.get(9..12)?.parse().ok()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn one_host_cannot_take_every_connection() {
+    let (_dir, db) = temp_db();
+    let app = TestApp::spawn(&db, &["--workers", "0", "--max-connections", "64"]);
+    let addr: std::net::SocketAddr = app.base.trim_start_matches("http://").parse().unwrap();
+    // host 127.0.0.1 opens 100 idle sockets: it may hold 56 (64 less an eighth)
+    let held: Vec<std::net::TcpStream> = (0..100)
+        .filter_map(|_| std::net::TcpStream::connect(addr).ok())
+        .collect();
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    // another host is served every time (the 100 of 100 answered 503)
+    let mut ok = 0;
+    for _ in 0..20 {
+        if healthz_from("127.0.0.2", addr).await == Some(200) {
+            ok += 1;
+        }
+    }
+    assert_eq!(ok, 20, "healthz from another host during the flood");
+    // and the flooding host's next connection is refused, naming the share
+    let mut over = std::net::TcpStream::connect(addr).unwrap();
+    over.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+    let mut got = String::new();
+    let _ = std::io::Read::read_to_string(&mut over, &mut got);
+    assert!(got.starts_with("HTTP/1.1 503"), "{got}");
+    assert!(got.contains("the most one address may"), "{got}");
+    drop(held);
+}
