@@ -224,6 +224,7 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
         }
     };
     let geometry = geometry(r.preset.as_deref(), r.geometry, "preset")?;
+    let speed_field = speed_field(r.shaft_rpm.is_some());
     let shaft_hz = shaft_hz(r.shaft_hz, r.shaft_rpm)?;
     let input = AnalysisInput {
         sample_rate: r.sample_rate,
@@ -231,7 +232,7 @@ fn from_json(body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)> {
         shaft_hz,
         options: r.options.unwrap_or_default(),
     };
-    check(&input, &r.samples, "options.")?;
+    check(&input, &r.samples, "options.", speed_field)?;
     Ok((input, r.samples))
 }
 
@@ -273,6 +274,7 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
         )),
     };
     let geometry = geometry(q.str("preset"), explicit, "preset")?;
+    let speed_field = speed_field(q.str("shaft_rpm").is_some());
     let shaft_hz = shaft_hz(q.f64("shaft_hz")?, q.f64("shaft_rpm")?)?;
     let mut options = AnalysisOptions::default();
     if let Some(l) = q.get::<usize>("levels")? {
@@ -323,7 +325,7 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
         shaft_hz,
         options,
     };
-    check(&input, &samples, "")?;
+    check(&input, &samples, "", speed_field)?;
     Ok((input, samples))
 }
 
@@ -390,9 +392,24 @@ fn shaft_hz(hz: Option<f64>, rpm: Option<f64>) -> ApiResult<f64> {
     Ok(f)
 }
 
+/// The field a shaft speed was given in.
+fn speed_field(rpm_given: bool) -> &'static str {
+    if rpm_given {
+        "shaft_rpm"
+    } else {
+        "shaft_hz"
+    }
+}
+
 /// Check the request before anything runs or is queued; `options_prefix` is where the
-/// options sit in the request (`options.` in a JSON body, nothing for query parameters).
-fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiResult<()> {
+/// options sit in the request (`options.` in a JSON body, nothing for query parameters),
+/// `speed_field` the field of the shaft speed.
+fn check(
+    input: &AnalysisInput,
+    samples: &[f64],
+    options_prefix: &str,
+    speed_field: &str,
+) -> ApiResult<()> {
     let mut errs = vec![];
     if !(input.sample_rate.is_finite() && input.sample_rate > 0.0) {
         errs.push(FieldProblem {
@@ -411,6 +428,9 @@ fn check(input: &AnalysisInput, samples: &[f64], options_prefix: &str) -> ApiRes
             path: format!("samples[{k}]"),
             message: "must be finite".into(),
         });
+    }
+    if errs.is_empty() {
+        errs = super::analysis_sense::senseless(input, samples, speed_field);
     }
     // the options as the analysis itself checks them, so a queued job cannot be accepted
     // and fail later where the direct path answers 422

@@ -17,6 +17,28 @@ use std::convert::Infallible;
 pub struct Caller {
     tenant: String,
     reads_all: bool,
+    share_key: String,
+}
+
+/// The address a request came from (set by the accept loop on every request).
+#[derive(Debug, Clone, Copy)]
+pub struct ClientAddr(pub std::net::IpAddr);
+
+/// Who a request counts against for the shares of limited resources (large transfers):
+/// its tenant when it names a configured token, otherwise its address. Tenants on one
+/// host (behind one proxy) keep separate shares; anonymous clients share by address.
+pub fn share_key(state: &AppState, req: &Request) -> String {
+    let tenant = req
+        .headers()
+        .get(header::AUTHORIZATION)
+        .and_then(|v| v.to_str().ok())
+        .and_then(bearer_token)
+        .and_then(|t| state.tokens.name_of(t));
+    match (tenant, req.extensions().get::<ClientAddr>()) {
+        (Some(name), _) => format!("tenant {name}"),
+        (None, Some(ClientAddr(ip))) => format!("address {ip}"),
+        (None, None) => "address unknown".into(),
+    }
 }
 
 impl Caller {
@@ -29,6 +51,11 @@ impl Caller {
     /// so their ids reveal nothing.)
     pub fn may_see(&self, owner: &str) -> bool {
         self.reads_all || owner == self.tenant
+    }
+
+    /// Whom this request counts against for shared limits ([`share_key`]).
+    pub fn share_key(&self) -> &str {
+        &self.share_key
     }
 
     /// The tenant to scope a listing to (None: everyone's).
@@ -65,20 +92,31 @@ fn unauthorized(detail: &str) -> Response {
     res
 }
 
+/// The token of an `Authorization: Bearer <token>` value. The scheme is case-insensitive
+/// (RFC 7235 section 2.1): `bearer` and `BEARER` name it too.
+fn bearer_token(value: &str) -> Option<&str> {
+    let (scheme, token) = value.trim_start().split_once(' ')?;
+    scheme
+        .eq_ignore_ascii_case("bearer")
+        .then(|| token.trim())
+        .filter(|t| !t.is_empty())
+}
+
 /// With tokens configured, every `/v1` request needs `Authorization: Bearer <token>`
 /// (token-less GETs too, unless `--open-reads`); health, metrics, the OpenAPI document
 /// and the web page stay open.
 pub async fn authenticate(State(state): State<AppState>, mut req: Request, next: Next) -> Response {
+    let share_key = share_key(&state, &req);
     if state.tokens.is_empty() || !req.uri().path().starts_with("/v1/") {
+        req.extensions_mut().insert(Caller {
+            share_key,
+            ..Caller::default()
+        });
         return next.run(req).await;
     }
     let caller = match req.headers().get(header::AUTHORIZATION) {
         Some(v) => {
-            let token = v
-                .to_str()
-                .ok()
-                .and_then(|s| s.strip_prefix("Bearer "))
-                .map(str::trim);
+            let token = v.to_str().ok().and_then(bearer_token);
             let Some(token) = token else {
                 return unauthorized("the Authorization header must be 'Bearer <token>'");
             };
@@ -86,6 +124,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
                 Some(name) => Caller {
                     tenant: name.to_string(),
                     reads_all: false,
+                    share_key,
                 },
                 None => return unauthorized("the token is not configured on this service"),
             }
@@ -94,6 +133,7 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
             Caller {
                 tenant: String::new(),
                 reads_all: true,
+                share_key,
             }
         }
         None => {
@@ -104,4 +144,19 @@ pub async fn authenticate(State(state): State<AppState>, mut req: Request, next:
     };
     req.extensions_mut().insert(caller);
     next.run(req).await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::bearer_token;
+
+    #[test]
+    fn the_bearer_scheme_is_case_insensitive() {
+        for v in ["Bearer bs_x", "bearer bs_x", "BEARER  bs_x "] {
+            assert_eq!(bearer_token(v), Some("bs_x"), "{v}");
+        }
+        for v in ["Basic YTpi", "Bearer", "Bearer ", "Bearerbs_x"] {
+            assert_eq!(bearer_token(v), None, "{v}");
+        }
+    }
 }

@@ -1,6 +1,8 @@
 //! Request decoding that reports problems as problem+json with field paths.
 
+use super::input_bounds::check_bounds;
 use super::problem::{join_path, FieldProblem, Problem};
+use super::strict_json::StrictValue;
 use axum::http::{header, HeaderMap};
 use serde::de::DeserializeOwned;
 use serde_json::Value;
@@ -35,14 +37,15 @@ pub fn require_json(headers: &HeaderMap) -> Result<(), Problem> {
     }
 }
 
-/// Parse JSON text into a value: a syntax error is a 400.
+/// Parse JSON text into a value: a syntax error, or a member given twice in one object, is
+/// a 400.
 ///
 /// A syntax error inside the document names the member where it stopped (`NaN`,
 /// `Infinity` and out-of-range numbers such as `1e400` are not JSON numbers), as a 400 with
 /// that path in `errors[]`, not only a line and column.
 pub fn parse_value(body: &[u8]) -> Result<Value, Problem> {
     let mut de = serde_json::Deserializer::from_slice(body);
-    let parsed: Result<Value, _> = serde_path_to_error::deserialize(&mut de);
+    let parsed: Result<StrictValue, _> = serde_path_to_error::deserialize(&mut de);
     let v = parsed.map_err(|e| {
         // `?` stands for a member whose name was not read yet: name its parent instead
         let full = e.path().to_string();
@@ -65,8 +68,17 @@ pub fn parse_value(body: &[u8]) -> Result<Value, Problem> {
         p.errors = Some(vec![FieldProblem { path, message }]);
         p
     })?;
+    let StrictValue(v) = v;
     de.end()
         .map_err(|e| Problem::bad_request(format!("request body is not valid JSON: {e}")))?;
+    Ok(v)
+}
+
+/// A request body of names and numbers (a scene, a study; not a measured signal): parsed,
+/// then every string, array and object checked against its size bound (422 naming it).
+pub fn parse_bounded(body: &[u8]) -> Result<Value, Problem> {
+    let v = parse_value(body)?;
+    check_bounds(&v, "")?;
     Ok(v)
 }
 

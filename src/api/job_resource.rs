@@ -6,7 +6,7 @@ use super::extract::QueryParams;
 use super::problem::{ApiResult, Problem};
 use super::state::AppState;
 use super::views::{collection, etag, etag_matches, job_location, JobPage, JobView};
-use crate::store::{Job, JobKind, JobState, ListFilter};
+use crate::store::{Job, JobKind, JobState, ListFilter, StoreError};
 use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
@@ -17,13 +17,16 @@ pub const MAX_WAIT: f64 = 60.0;
 
 /// A job of the expected kind that the caller may see, or 404 (ids of the other kind,
 /// and other tenants' jobs, are not visible here).
+/// An unknown id and one the caller may not see get the same answer, so ids reveal nothing.
 pub async fn load(state: &AppState, caller: &Caller, kind: JobKind, id: &str) -> ApiResult<Job> {
-    let job = state.store.get_job(id).await?;
+    let not_found = || Problem::not_found(format!("no {} with id {id}", kind.as_str()));
+    let job = match state.store.get_job(id).await {
+        Ok(job) => job,
+        Err(StoreError::NotFound(_)) => return Err(not_found()),
+        Err(e) => return Err(e.into()),
+    };
     if job.kind != kind || !caller.may_see(&job.tenant) {
-        return Err(Problem::not_found(format!(
-            "no {} with id {id}",
-            kind.as_str()
-        )));
+        return Err(not_found());
     }
     Ok(job)
 }

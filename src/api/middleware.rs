@@ -1,5 +1,6 @@
 //! Middleware: problem+json for errors produced outside handlers, latency metrics.
 
+use super::database_watch::DatabaseWatch;
 use super::problem::{Problem, PROBLEM_JSON};
 use super::state::AppState;
 use axum::extract::{MatchedPath, Request, State};
@@ -7,6 +8,26 @@ use axum::http::{header, StatusCode};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use std::time::Instant;
+
+/// While the database does not answer, a request that needs it gets 503 with
+/// `Retry-After` at once, and one in flight when it goes away gets it then (instead of
+/// hanging on a connection that will not answer until the request timeout).
+pub async fn answer_without_database(
+    State(state): State<AppState>,
+    req: Request,
+    next: Next,
+) -> Response {
+    if !DatabaseWatch::needed_by(req.uri().path()) {
+        return next.run(req).await;
+    }
+    if !state.database.is_up() {
+        return DatabaseWatch::unavailable().into_response();
+    }
+    tokio::select! {
+        res = next.run(req) => res,
+        () = state.database.went_away() => DatabaseWatch::unavailable().into_response(),
+    }
+}
 
 /// Rewrites any error response that is not problem+json yet (axum's extractor
 /// rejections, 405, 408 from the timeout, 413 from the body limit) into one, keeping
@@ -90,13 +111,27 @@ pub async fn bound_request_bodies(
     // A large body (or one of unknown length) waits for a large-transfer permit before a
     // byte of it is read, and holds it until the answer is made: the bodies held in memory
     // at once stay bounded by --max-large-transfers, not by the connection count.
+    // The wait for the slot and the whole request after it fit in the request timeout
+    // (the wait used to come before it: a stalled flood made uploads take 89 s).
     let chunked = declared.is_none() && req.headers().contains_key(header::TRANSFER_ENCODING);
     if declared.is_some_and(|n| n > LARGE_BODY) || chunked {
-        let _permit = match state.large_transfer().await {
-            Ok(p) => p,
-            Err(problem) => return problem.into_response(),
-        };
-        return next.run(req).await;
+        let deadline = state.config.request_deadline();
+        let client = super::caller::share_key(&state, &req);
+        let answered = tokio::time::timeout(deadline, async {
+            let _permit = match state.large_transfer(&client).await {
+                Ok(p) => p,
+                Err(problem) => return problem.into_response(),
+            };
+            next.run(req).await
+        })
+        .await;
+        return answered.unwrap_or_else(|_| {
+            Problem::http(
+                StatusCode::REQUEST_TIMEOUT,
+                "the request took longer than the configured request timeout".to_string(),
+            )
+            .into_response()
+        });
     }
     next.run(req).await
 }

@@ -5,11 +5,15 @@
 #![allow(clippy::result_large_err)]
 
 mod analyses;
+mod analysis_sense;
 mod budget;
 mod caller;
+mod database_watch;
 mod direct;
 mod extract;
+mod input_bounds;
 mod job_resource;
+mod large_transfers;
 mod middleware;
 pub mod openapi;
 mod ops;
@@ -23,11 +27,15 @@ mod scene_input;
 mod simulation_plots;
 mod simulations;
 mod state;
+mod strict_json;
 mod studies;
 mod study_views;
 mod submission;
 mod views;
 mod web;
 
+pub use caller::ClientAddr;
+pub use database_watch::DatabaseWatch;
+pub use large_transfers::LargeTransfers;
 pub use router::router;
 pub use state::AppState;

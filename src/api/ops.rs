@@ -1,7 +1,7 @@
 //! Operational endpoints: health, readiness, metrics, the OpenAPI document, 404 fallback.
 
 use super::openapi::responses::Unavailable;
-use super::problem::{ApiResult, Problem};
+use super::problem::{ApiResult, Problem, DATABASE_RETRY_AFTER};
 use super::state::AppState;
 use super::views::Status;
 use crate::store::JobState;
@@ -26,6 +26,9 @@ pub async fn healthz() -> Response {
     .into_response()
 }
 
+/// Longest wait of `/readyz` for the database's answer.
+const READY_PING_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(1500);
+
 /// Readiness (database reachable, not shutting down)
 #[utoipa::path(
     get,
@@ -41,11 +44,21 @@ pub async fn readyz(State(state): State<AppState>) -> ApiResult<Response> {
     if !state.ready.load(Ordering::SeqCst) {
         return Err(Problem::unavailable("shutting down"));
     }
-    state
-        .store
-        .ping()
-        .await
-        .map_err(|e| Problem::unavailable(format!("database not reachable: {e}")))?;
+    // the watch answers at once while the database is known to be away; a ping of its
+    // own is bounded too, for the moments before the watch sees it
+    let ping = tokio::time::timeout(READY_PING_TIMEOUT, state.store.ping()).await;
+    let why = match ping {
+        Ok(Ok(())) => None,
+        Ok(Err(e)) => Some(format!("database not reachable: {e}")),
+        Err(_) => Some(format!(
+            "the database did not answer within {READY_PING_TIMEOUT:?}"
+        )),
+    };
+    if let Some(why) = why {
+        let mut p = Problem::unavailable(why);
+        p.retry_after = Some(DATABASE_RETRY_AFTER);
+        return Err(p);
+    }
     Ok(Json(Status {
         status: "ready".into(),
     })

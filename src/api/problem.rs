@@ -170,6 +170,23 @@ impl Problem {
         )
     }
 
+    /// 429 for a queue (or a tenant's share of it) that is full, retried after 5 s.
+    fn queue_full(slug: &'static str, title: &'static str, detail: String) -> Problem {
+        let mut p = Problem::new(StatusCode::TOO_MANY_REQUESTS, Some(slug), title, detail);
+        p.retry_after = Some(5);
+        p
+    }
+
+    /// 503 while the database cannot be reached: a client should retry (the pool
+    /// reconnects by itself once the database is back).
+    pub fn database_unreachable(e: &StoreError) -> Problem {
+        let mut p = Problem::unavailable(format!(
+            "the database is not reachable ({e}); retry shortly"
+        ));
+        p.retry_after = Some(DATABASE_RETRY_AFTER);
+        p
+    }
+
     pub fn status(&self) -> StatusCode {
         StatusCode::from_u16(self.status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR)
     }
@@ -219,16 +236,16 @@ impl From<StoreError> for Problem {
                 format!("job {id} is {state}: {message}"),
                 Some(state.as_str()),
             ),
-            StoreError::QueueFull(n) => {
-                let mut p = Problem::new(
-                    StatusCode::TOO_MANY_REQUESTS,
-                    Some("queue-full"),
-                    "Queue full",
-                    format!("{n} jobs are waiting; retry later"),
-                );
-                p.retry_after = Some(5);
-                p
-            }
+            StoreError::QueueFull(n) => Problem::queue_full(
+                "queue-full",
+                "Queue full",
+                format!("{n} jobs are waiting; retry later"),
+            ),
+            StoreError::TenantQueueFull(n) => Problem::queue_full(
+                "tenant-queue-full",
+                "Queue share full",
+                format!("your token has {n} jobs queued, its share of the queue (--tenant-max-queued); retry when some have started"),
+            ),
             StoreError::IdempotencyMismatch(id) => Problem::new(
                 StatusCode::UNPROCESSABLE_ENTITY,
                 Some("idempotency-key-reused"),
@@ -236,6 +253,10 @@ impl From<StoreError> for Problem {
                 format!("this Idempotency-Key was used for a different request (job {id})"),
             ),
             e @ StoreError::LeaseLost => Problem::internal(e.to_string()),
+            e if e.is_unreachable() => {
+                tracing::warn!(error = %e, "database unreachable");
+                Problem::database_unreachable(&e)
+            }
             e @ (StoreError::Db(_) | StoreError::Migrate(_) | StoreError::Url(_)) => {
                 tracing::error!(error = %e, "store error");
                 Problem::internal("database error")
@@ -245,6 +266,9 @@ impl From<StoreError> for Problem {
 }
 
 pub type ApiResult<T> = Result<T, Problem>;
+
+/// `Retry-After` (s) of a 503 for an unreachable database: about a restart's time.
+pub const DATABASE_RETRY_AFTER: u64 = 2;
 
 #[cfg(test)]
 mod tests {

@@ -1,7 +1,7 @@
 //! `POST /v1/quasi-static`: the Jones-Harris equilibrium, answered directly.
 
 use super::direct::run_direct;
-use super::extract::{as_object, from_value, parse_value, require_json};
+use super::extract::{as_object, from_value, parse_bounded, require_json};
 use super::openapi::responses::{
     BadRequest, Invalid, RequestTimeout, TooLarge, Unavailable, UnsupportedMediaType,
 };
@@ -41,7 +41,7 @@ pub async fn solve(
     body: Bytes,
 ) -> ApiResult<Response> {
     require_json(&headers)?;
-    let mut body = as_object(parse_value(&body)?)?;
+    let mut body = as_object(parse_bounded(&body)?)?;
     let rpm: Option<f64> = match body.remove("shaft_rpm") {
         None => None,
         Some(v) => Some(from_value(v, "shaft_rpm")?),

@@ -254,7 +254,7 @@ pub async fn spectra(
     };
     let which = query.choice.kind();
     // a spectrum is up to n/2 bins, held as f32 and then as JSON: a few at a time
-    let _permit = state.large_transfer().await?;
+    let _permit = state.large_transfer(caller.share_key()).await?;
     let Some(a) = state
         .store
         .get_artifact(&id, &spectrum_artifact_name(level))

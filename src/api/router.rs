@@ -12,7 +12,7 @@ use tower_http::trace::TraceLayer;
 
 pub fn router(state: AppState) -> Router {
     let cfg = state.config.clone();
-    let timeout = Duration::from_secs_f64(cfg.request_timeout.max(0.1));
+    let timeout = cfg.request_deadline();
     let mut app = Router::new();
     for route in routes::table() {
         let handler = if route.long_poll {
@@ -35,6 +35,10 @@ pub fn router(state: AppState) -> Router {
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
             super::caller::authenticate,
+        ))
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            middleware::answer_without_database,
         ))
         .layer(TraceLayer::new_for_http())
         .layer(axum::middleware::from_fn(

@@ -1,13 +1,13 @@
 //! `/v1/simulations`: submit a scene, follow the job, read its result, signals and spectra.
 
 use super::caller::Caller;
-use super::extract::{as_object, parse_value, require_json, QueryParams};
+use super::extract::{as_object, parse_bounded, require_json, QueryParams};
 use super::job_resource::{self, succeeded};
 use super::openapi::params::{
     IdempotencyKey, IfNoneMatch, JobId, ListQuery, SignalsQuery, SpectraQuery, WaitQuery,
 };
 use super::openapi::responses::{
-    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, UnsupportedMediaType,
+    BadRequest, Conflict, Invalid, NotFound, QueueFull, TooLarge, Unavailable, UnsupportedMediaType,
 };
 use super::problem::{ApiResult, Problem};
 use super::results::{self, SimulationResult, SpectrumView};
@@ -154,6 +154,7 @@ pub fn sample_window(
         (status = 415, response = UnsupportedMediaType),
         (status = 422, response = Invalid),
         (status = 429, response = QueueFull),
+        (status = 503, response = Unavailable),
     )
 )]
 pub async fn submit(
@@ -163,7 +164,7 @@ pub async fn submit(
     body: Bytes,
 ) -> ApiResult<Response> {
     require_json(&headers)?;
-    let mut body = as_object(parse_value(&body)?)?;
+    let mut body = as_object(parse_bounded(&body)?)?;
     let scene = resolve_scene(&mut body, &[])?;
     let over = super::budget::over_budget(&scene, &state.config, "scene");
     if !over.is_empty() {
@@ -221,6 +222,15 @@ pub async fn signals(
         .to_string();
     let from = q.f64("from")?;
     let to = q.f64("to")?;
+    if let (Some(a), Some(b)) = (from, to) {
+        if a > b {
+            // an empty window is never what was meant: say so rather than answer nothing
+            return Err(Problem::field(
+                "to",
+                format!("must not be before from ({b} s < {a} s)"),
+            ));
+        }
+    }
     let max_points = q.get::<usize>("max_points")?.unwrap_or(DEFAULT_POINTS);
     if !(1..=MAX_POINTS).contains(&max_points) {
         return Err(Problem::bad_request(format!(
@@ -229,7 +239,7 @@ pub async fn signals(
     }
     succeeded(&state, &caller, KIND, &id).await?;
     // a channel is up to 20 MB in memory while it is decimated: a few at a time
-    let _permit = state.large_transfer().await?;
+    let _permit = state.large_transfer(caller.share_key()).await?;
     let StoredChannel {
         data,
         sample_rate: fs,

@@ -1,12 +1,14 @@
 //! What every handler shares.
 
+use super::database_watch::DatabaseWatch;
+use super::large_transfers::{LargePermit, LargeTransfers};
 use super::problem::Problem;
 use crate::config::{Config, Tokens};
 use crate::metrics::Metrics;
 use crate::store::Store;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
-use tokio::sync::{Notify, OwnedSemaphorePermit, Semaphore};
+use tokio::sync::{Notify, Semaphore};
 
 #[derive(Clone)]
 pub struct AppState {
@@ -17,10 +19,13 @@ pub struct AppState {
     pub tokens: Arc<Tokens>,
     /// Wakes idle workers when a job is queued.
     pub wake: Arc<Notify>,
+    /// Whether the database answers (requests that need it get 503 while it does not).
+    pub database: DatabaseWatch,
     /// False once shutdown began (readiness).
     pub ready: Arc<AtomicBool>,
-    /// Bounds large transfers in flight: big request bodies, channel and spectrum answers.
-    pub large: Arc<Semaphore>,
+    /// Bounds large transfers in flight: big request bodies, channel and spectrum answers,
+    /// with a share per client.
+    pub large: Arc<LargeTransfers>,
     /// Bounds direct (non-queued) computations: quasi-static solves, small analyses.
     pub direct: Arc<Semaphore>,
     /// The OpenAPI document served at `/openapi.yaml` (`api::openapi::yaml()`; handed in so
@@ -29,13 +34,11 @@ pub struct AppState {
 }
 
 impl AppState {
-    /// One of the `--max-large-transfers` permits, waited for; held while a large body or
-    /// answer is in memory.
-    pub async fn large_transfer(&self) -> Result<OwnedSemaphorePermit, Problem> {
+    /// One of the `--max-large-transfers` slots within `client`'s share, held while a
+    /// large body or answer is in memory; waited for within the request timeout.
+    pub async fn large_transfer(&self, client: &str) -> Result<LargePermit, Problem> {
         self.large
-            .clone()
-            .acquire_owned()
+            .acquire(client, self.config.request_deadline())
             .await
-            .map_err(|_| Problem::unavailable("shutting down"))
     }
 }

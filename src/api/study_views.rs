@@ -4,9 +4,11 @@
 use super::problem::{ApiResult, Problem};
 use super::results::record;
 use super::submission::Fnv1a;
+use super::views::{bounded_text, MAX_ERROR_CHARS};
 use crate::jobs::record::SimulationRecord;
 use crate::store::{JobError, JobState, Study, StudyPointRow};
 use crate::studies::charts::plot_names;
+use bearing_core::scene::MAX_NAME_CHARS;
 use bearing_core::study::{DesignSummary, PointSpec, PointState, RunDigest, StudyTableRow};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -178,7 +180,10 @@ pub fn view(study: &Study) -> ApiResult<StudyView> {
             progress: p.job.progress,
             shared: p.shared_with_other_studies || per_job[p.job.id.as_str()] > 1,
             spec,
-            error: p.job.error.clone(),
+            error: p.job.error.as_ref().map(|e| JobError {
+                kind: e.kind,
+                message: bounded_text(&e.message, MAX_ERROR_CHARS),
+            }),
         });
     }
     let base = study_location(&study.id);
@@ -198,7 +203,7 @@ pub fn view(study: &Study) -> ApiResult<StudyView> {
     }
     Ok(StudyView {
         id: study.id.clone(),
-        name: study.label.clone(),
+        name: bounded_text(&study.label, MAX_NAME_CHARS),
         state: study_state(study),
         cancel_requested: study.cancel_requested,
         design,

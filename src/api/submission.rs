@@ -54,7 +54,11 @@ pub async fn enqueue(
         request_hash: format!("{:016x}", hasher.0),
         input_format: INPUT_FORMAT,
     };
-    let created = state.store.create_job(new, state.config.max_queued).await?;
+    let tenant_share = state.config.tenant_queue_share(!state.tokens.is_empty());
+    let created = state
+        .store
+        .create_job_within(new, state.config.max_queued, tenant_share)
+        .await?;
     if created.created {
         state.wake.notify_waiters();
         Ok(job_response(StatusCode::ACCEPTED, &created.job))

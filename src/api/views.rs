@@ -1,6 +1,7 @@
 //! What the API shows of jobs (typed views), their ETags and timestamps.
 
 use crate::store::{Job, JobError, JobKind, JobState};
+use bearing_core::scene::MAX_NAME_CHARS;
 use bearing_core::simulation::SolverStats;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -29,6 +30,25 @@ pub fn etag_matches(if_none_match: &str, etag: &str) -> bool {
         .split(',')
         .map(str::trim)
         .any(|t| t == "*" || t.trim_start_matches("W/") == etag)
+}
+
+/// Longest error message a job view shows, in characters. Messages are the service's own
+/// (a solver failure, a limit), well under it; the bound keeps a listing's size bounded.
+pub const MAX_ERROR_CHARS: usize = 2000;
+
+/// `text` cut to `max` characters, with an ellipsis when cut. Inputs are bounded before
+/// they are stored; this bounds what was stored before the bounds existed too.
+pub fn bounded_text(text: &str, max: usize) -> String {
+    match text.char_indices().nth(max) {
+        None => text.to_string(),
+        Some((end, _)) => {
+            let cut = text[..end]
+                .char_indices()
+                .nth(max - 1)
+                .map_or(0, |(i, _)| i);
+            format!("{}\u{2026}", &text[..cut])
+        }
+    }
 }
 
 /// A job as the API shows it.
@@ -98,7 +118,7 @@ impl JobView {
             id: job.id.clone(),
             kind: job.kind,
             state: job.state,
-            label: job.label.clone(),
+            label: bounded_text(&job.label, MAX_NAME_CHARS),
             progress: job.progress,
             attempt: job.attempt,
             cancel_requested: job.cancel_requested,
@@ -111,7 +131,10 @@ impl JobView {
                 .stats
                 .clone()
                 .and_then(|v| serde_json::from_value(v).ok()),
-            error: job.error.clone(),
+            error: job.error.as_ref().map(|e| JobError {
+                kind: e.kind,
+                message: bounded_text(&e.message, MAX_ERROR_CHARS),
+            }),
             links,
         }
     }
@@ -169,11 +192,62 @@ fn civil_from_days(z: i64) -> (i64, u32, u32) {
 mod tests {
     use super::*;
 
+    /// Largest job view, bytes of JSON: a label of [`MAX_NAME_CHARS`] and an error of
+    /// [`MAX_ERROR_CHARS`] characters, each up to 6 bytes once escaped (`\u001f`), and 1.5 KiB
+    /// of ids, times, statistics and links. A listing of `limit` jobs is at most `limit` times
+    /// this (14 736 bytes; 500 of them are 7.0 MiB, where a typical view is 0.7 KiB).
+    const MAX_JOB_VIEW_BYTES: usize = 6 * (MAX_NAME_CHARS + MAX_ERROR_CHARS) + 1536;
+
     #[test]
     fn formats_timestamps() {
         assert_eq!(rfc3339(0), "1970-01-01T00:00:00.000Z");
         assert_eq!(rfc3339(951_782_400_123), "2000-02-29T00:00:00.123Z");
         assert_eq!(rfc3339(1_795_000_000_000), "2026-11-18T11:06:40.000Z");
+    }
+
+    #[test]
+    fn the_largest_job_view_is_within_its_bound() {
+        // the worst a stored row can hold: names and messages far over their bounds, of
+        // characters JSON escapes to six bytes, and the largest statistics
+        let stats = SolverStats {
+            accepted_steps: u64::MAX,
+            rejected_steps: u64::MAX,
+            rhs_evaluations: u64::MAX,
+            min_step: -f64::MIN_POSITIVE,
+            max_step: -f64::MAX,
+            wall_time: -f64::MAX,
+        };
+        let job = Job {
+            seq: i64::MAX,
+            id: "019a4f7e-3c1b-7d2a-9f10-2b6c8e4d5a71".into(),
+            tenant: "t".repeat(10_000),
+            kind: JobKind::Simulation,
+            state: JobState::Succeeded,
+            label: "\u{1}".repeat(1 << 20),
+            progress: -f64::MAX,
+            attempt: i64::MIN,
+            cancel_requested: true,
+            version: i64::MIN,
+            created_at: 4_102_444_800_000,
+            started_at: Some(4_102_444_800_000),
+            finished_at: Some(4_102_444_800_000),
+            updated_at: 4_102_444_800_000,
+            error: Some(JobError {
+                kind: crate::store::FailureKind::LeaseExpired,
+                message: "\u{1}".repeat(1 << 20),
+            }),
+            stats: Some(serde_json::to_value(&stats).unwrap()),
+            result: None,
+        };
+        let view = JobView::of(&job);
+        assert_eq!(view.label.chars().count(), MAX_NAME_CHARS);
+        assert!(view.label.ends_with('\u{2026}'));
+        let bytes = serde_json::to_vec(&view).unwrap().len();
+        assert!(
+            bytes <= MAX_JOB_VIEW_BYTES,
+            "{bytes} > {MAX_JOB_VIEW_BYTES}"
+        );
+        assert_eq!(bounded_text("short", MAX_NAME_CHARS), "short");
     }
 
     #[test]

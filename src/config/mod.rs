@@ -28,6 +28,12 @@ pub struct Config {
     #[arg(long, env = "BEARING_SIM_MAX_QUEUED", default_value_t = 1000)]
     pub max_queued: i64,
 
+    /// Queued jobs one tenant (API token) may have, so that one tenant cannot fill the
+    /// queue for everyone. Default: with tokens, half of `--max-queued`; without tokens
+    /// (one tenant), no bound beyond `--max-queued`.
+    #[arg(long, env = "BEARING_SIM_TENANT_MAX_QUEUED")]
+    pub tenant_max_queued: Option<i64>,
+
     /// Comma-separated origins allowed by CORS (e.g. `http://localhost:3000`), or `*` for
     /// any origin; empty: none.
     #[arg(
@@ -125,6 +131,21 @@ pub struct Config {
 }
 
 impl Config {
+    /// Queued jobs one tenant may have (`i64::MAX`: no bound); `tenants`: tokens are
+    /// configured.
+    pub fn tenant_queue_share(&self, tenants: bool) -> i64 {
+        match (self.tenant_max_queued, tenants) {
+            (Some(n), _) => n.max(1),
+            (None, true) => (self.max_queued / 2).max(1),
+            (None, false) => i64::MAX,
+        }
+    }
+
+    /// `--request-timeout` as a duration (at least 0.1 s).
+    pub fn request_deadline(&self) -> std::time::Duration {
+        std::time::Duration::from_secs_f64(self.request_timeout.max(0.1))
+    }
+
     /// The configured tokens (file and list), or why they cannot be read.
     pub fn load_tokens(&self) -> Result<Tokens, String> {
         let mut t = Tokens::parse(&self.tokens, "--tokens")?;

@@ -26,7 +26,9 @@ pub struct WorkerConfig {
     #[arg(long, env = "BEARING_SIM_LEASE_SECS", default_value_t = 10.0)]
     pub lease_secs: f64,
 
-    /// Claims of one job before a lost lease fails it instead of requeueing it.
+    /// Deaths in a row of a job's worker, without the job getting further (1% more of
+    /// it than before), before the job is failed as one that kills its worker. A death
+    /// after headway (a restart, a SIGKILL, a lost host) never counts against the job.
     #[arg(long, env = "BEARING_SIM_MAX_ATTEMPTS", default_value_t = 3)]
     pub max_attempts: i64,
 
@@ -40,6 +42,12 @@ pub struct WorkerConfig {
     #[arg(long, env = "BEARING_SIM_RETENTION", default_value_t = 30.0 * 86400.0)]
     pub retention: f64,
 
+    /// Jobs one tenant (API token) may run at once across the database, so that another
+    /// tenant's job always finds a worker. Default: with tokens, one less than the workers
+    /// (at least 1); without tokens (one tenant) or on `bearing-sim worker`, no bound.
+    #[arg(long, env = "BEARING_SIM_TENANT_MAX_RUNNING")]
+    pub tenant_max_running: Option<usize>,
+
     /// Grace period on shutdown for running jobs to stop and be requeued, s.
     #[arg(long, env = "BEARING_SIM_SHUTDOWN_GRACE", default_value_t = 10.0)]
     pub shutdown_grace: f64,
@@ -52,6 +60,12 @@ impl WorkerConfig {
                 .map(|n| n.get())
                 .unwrap_or(1)
         })
+    }
+
+    /// Most jobs one tenant may run at once (`i64::MAX`: no bound).
+    pub fn tenant_share(&self) -> i64 {
+        self.tenant_max_running
+            .map_or(i64::MAX, |n| n.max(1) as i64)
     }
 
     pub fn lease_ms(&self) -> i64 {

@@ -4,7 +4,7 @@ use super::control::Control;
 use super::env::WorkerEnv;
 use super::outcome::{JobFailure, JobOutput};
 use super::{analysis_job, simulation_job};
-use crate::store::{Claimed, FailureKind, JobError, JobKind, Outcome, StoreError};
+use crate::store::{Claimed, FailureKind, JobError, JobKind, Outcome, StoreError, INPUT_FORMAT};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
@@ -21,7 +21,13 @@ pub async fn worker_loop(env: WorkerEnv, owner: String, mut shutdown: watch::Rec
         }
         // Register interest before claiming so a submission between the two is not missed.
         let woken = env.wake.notified();
-        match env.store.claim(&owner, env.config.lease_ms()).await {
+        let claim = env.store.claim_shared(
+            &owner,
+            env.config.lease_ms(),
+            INPUT_FORMAT,
+            env.config.tenant_share(),
+        );
+        match claim.await {
             Ok(Some(job)) => {
                 let span = tracing::info_span!("job", id = %job.lease.id, kind = job.kind.as_str(), attempt = job.lease.attempt);
                 run_claimed(&env, job, &mut shutdown).instrument(span).await;

@@ -3,6 +3,7 @@
 //! 300 of them under a 256-descriptor limit made `/healthz` time out).
 
 use super::problem_io::ProblemIo;
+use crate::api::ClientAddr;
 use crate::metrics::Metrics;
 use axum::body::Body;
 use axum::extract::Request;
@@ -10,8 +11,10 @@ use axum::Router;
 use hyper::body::Incoming;
 use hyper_util::rt::{TokioIo, TokioTimer};
 use hyper_util::service::TowerToHyperService;
+use std::collections::HashMap;
 use std::future::Future;
-use std::sync::Arc;
+use std::net::IpAddr;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 use tokio::net::{TcpListener, TcpStream};
 use tokio::sync::{watch, Semaphore};
@@ -41,6 +44,7 @@ pub async fn serve(
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) {
     let permits = Arc::new(Semaphore::new(limits.max_connections));
+    let addresses = Arc::new(PerAddress::new(limits.max_connections));
     // Dropping `signal_rx` tells the loop and every connection to wind down; each
     // connection holds a `close_rx` until it is done.
     let (signal_tx, signal_rx) = watch::channel(());
@@ -50,7 +54,7 @@ pub async fn serve(
     });
     let (close_tx, close_rx) = watch::channel(());
     loop {
-        let (stream, _peer) = tokio::select! {
+        let (stream, peer) = tokio::select! {
             accepted = listener.accept() => match accepted {
                 Ok(a) => a,
                 Err(e) => {
@@ -63,17 +67,37 @@ pub async fn serve(
             },
             _ = signal_tx.closed() => break,
         };
+        let Some(mine) = addresses.open(peer.ip()) else {
+            metrics.connection_refused();
+            refuse(
+                stream,
+                &format!(
+                    "this address holds {} of the {} connections (--max-connections), the most one address may: the rest are kept for others; retry later",
+                    addresses.max,
+                    limits.max_connections
+                ),
+            );
+            continue;
+        };
         let Ok(permit) = permits.clone().try_acquire_owned() else {
             metrics.connection_refused();
-            refuse(stream, limits.max_connections);
+            refuse(
+                stream,
+                &format!(
+                    "the server holds its limit of {} open connections (--max-connections); retry later",
+                    limits.max_connections
+                ),
+            );
             continue;
         };
         let _ = stream.set_nodelay(true);
-        let service = TowerToHyperService::new(
-            router
-                .clone()
-                .map_request(|r: Request<Incoming>| r.map(Body::new)),
-        );
+        let client = ClientAddr(peer.ip());
+        let service =
+            TowerToHyperService::new(router.clone().map_request(move |r: Request<Incoming>| {
+                let mut r = r.map(Body::new);
+                r.extensions_mut().insert(client);
+                r
+            }));
         let signal_tx = signal_tx.clone();
         let close_rx = close_rx.clone();
         let metrics = metrics.clone();
@@ -103,6 +127,7 @@ pub async fn serve(
                 }
             }
             drop(permit);
+            drop(mine);
             drop(close_rx);
         });
     }
@@ -111,15 +136,66 @@ pub async fn serve(
     close_tx.closed().await;
 }
 
-/// Answer a connection over the bound with 503 (problem+json) and close it at once,
+/// Connections open per client address: one address may hold all but an eighth of
+/// `--max-connections` (at least one), so the rest stay for others. Before, 513 idle
+/// sockets from one host, refilled as they closed, made every other client's `/healthz`
+/// answer 503.
+struct PerAddress {
+    max: usize,
+    open: Mutex<HashMap<IpAddr, usize>>,
+}
+
+/// One connection of an address, counted until it is dropped.
+struct AddressSlot {
+    of: Arc<PerAddress>,
+    ip: IpAddr,
+}
+
+impl PerAddress {
+    fn new(max_connections: usize) -> PerAddress {
+        let reserve = (max_connections / 8).max(1);
+        PerAddress {
+            max: max_connections.saturating_sub(reserve).max(1),
+            open: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// A slot for one more connection of `ip`, if it holds fewer than its most.
+    fn open(self: &Arc<Self>, ip: IpAddr) -> Option<AddressSlot> {
+        let mut open = self.open.lock().unwrap_or_else(|e| e.into_inner());
+        let n = open.entry(ip).or_insert(0);
+        if *n >= self.max {
+            return None;
+        }
+        *n += 1;
+        Some(AddressSlot {
+            of: self.clone(),
+            ip,
+        })
+    }
+}
+
+impl Drop for AddressSlot {
+    fn drop(&mut self) {
+        let mut open = self.of.open.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(n) = open.get_mut(&self.ip) {
+            *n -= 1;
+            if *n == 0 {
+                open.remove(&self.ip);
+            }
+        }
+    }
+}
+
+/// Answer a connection over a bound with 503 (problem+json) and close it at once,
 /// without reading its request: one non-blocking write into the fresh socket's buffer, so
 /// a burst of refusals holds no descriptor longer than the accept loop's turn.
-fn refuse(stream: TcpStream, max: usize) {
+fn refuse(stream: TcpStream, detail: &str) {
     let body = serde_json::json!({
         "type": "about:blank",
         "title": "Service Unavailable",
         "status": 503,
-        "detail": format!("the server holds its limit of {max} open connections (--max-connections); retry later"),
+        "detail": detail,
     })
     .to_string();
     let reply = format!(

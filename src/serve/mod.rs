@@ -12,7 +12,7 @@ pub use error::ServeError;
 use signal::shutdown_signal;
 pub use worker_node::{run_worker_node, run_worker_node_until};
 
-use crate::api::{self, AppState};
+use crate::api::{self, AppState, DatabaseWatch, LargeTransfers};
 use crate::config::Config;
 use crate::jobs::{WorkerEnv, WorkerPool};
 use crate::metrics::Metrics;
@@ -51,22 +51,28 @@ pub async fn run_until(
     let ready = Arc::new(AtomicBool::new(true));
     let workers = config.worker.worker_count();
 
+    let mut worker_config = config.worker.clone();
+    if !tokens.is_empty() && worker_config.tenant_max_running.is_none() {
+        // several tenants: keep a worker for the others
+        worker_config.tenant_max_running = Some(workers.saturating_sub(1).max(1));
+    }
     let pool = WorkerPool::start(WorkerEnv {
         store: store.clone(),
-        config: Arc::new(config.worker.clone()),
+        config: Arc::new(worker_config),
         metrics: metrics.clone(),
         wake: wake.clone(),
     })
     .await;
     let metrics_for_server = metrics.clone();
     let state = AppState {
+        database: DatabaseWatch::start(store.clone()),
         store,
         config: config.clone(),
         metrics,
         wake,
         ready: ready.clone(),
         direct: Arc::new(Semaphore::new(config.direct_count())),
-        large: Arc::new(Semaphore::new(config.max_large_transfers.max(1))),
+        large: Arc::new(LargeTransfers::new(config.max_large_transfers)),
         openapi_yaml: api::openapi::yaml(),
         tokens: tokens.clone(),
     };

@@ -24,6 +24,9 @@ pub enum StoreError {
     StudyConflict { id: String, message: String },
     #[error("the queue is full ({0} jobs waiting)")]
     QueueFull(i64),
+    /// The tenant holds its share of the queue.
+    #[error("the tenant has {0} jobs queued, its share of the queue")]
+    TenantQueueFull(i64),
     /// Same Idempotency-Key, different request.
     #[error("Idempotency-Key was already used for a different request (job {0})")]
     IdempotencyMismatch(String),
@@ -36,6 +39,28 @@ pub enum StoreError {
     Migrate(#[from] sqlx::migrate::MigrateError),
     #[error("{0}")]
     Url(String),
+}
+
+impl StoreError {
+    /// The database could not be reached (down, restarting, or no connection free within
+    /// the pool's wait), as opposed to refusing a statement: worth retrying later.
+    pub fn is_unreachable(&self) -> bool {
+        match self {
+            StoreError::Db(e) => match e {
+                sqlx::Error::PoolTimedOut
+                | sqlx::Error::PoolClosed
+                | sqlx::Error::Io(_)
+                | sqlx::Error::Tls(_)
+                | sqlx::Error::WorkerCrashed => true,
+                // PostgreSQL shutting down, starting up, or out of connection slots
+                sqlx::Error::Database(d) => d
+                    .code()
+                    .is_some_and(|c| c.starts_with("57P") || c == "53300"),
+                _ => false,
+            },
+            _ => false,
+        }
+    }
 }
 
 #[async_trait]
@@ -54,7 +79,18 @@ pub trait Store: Send + Sync + 'static {
     /// Queue a job unless the queue holds `max_queued` jobs already. With an idempotency
     /// key already seen from the same tenant, returns the existing job (`created = false`) when the request hash
     /// matches and `IdempotencyMismatch` otherwise.
-    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError>;
+    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError> {
+        self.create_job_within(job, max_queued, i64::MAX).await
+    }
+
+    /// [`Store::create_job`], and unless the job's tenant has `tenant_max_queued` jobs
+    /// queued already (`TenantQueueFull`).
+    async fn create_job_within(
+        &self,
+        job: NewJob,
+        max_queued: i64,
+        tenant_max_queued: i64,
+    ) -> Result<Created, StoreError>;
 
     async fn get_job(&self, id: &str) -> Result<Job, StoreError>;
 
@@ -69,15 +105,28 @@ pub trait Store: Send + Sync + 'static {
     /// a study holds it as a point.
     async fn delete_job(&self, id: &str) -> Result<(), StoreError>;
 
-    /// Atomically take the oldest queued job whose input format is at most
-    /// `max_input_format` under a lease held by `owner`. Newer jobs are skipped, not
-    /// blocked on: the next older-format job behind them is taken.
+    /// Atomically take a queued job whose input format is at most `max_input_format`
+    /// under a lease held by `owner`: of the tenants running fewer than `tenant_share`
+    /// jobs, the one running fewest (round robin across tenants), its oldest job. Newer
+    /// formats are skipped, not blocked on.
+    async fn claim_shared(
+        &self,
+        owner: &str,
+        lease_ms: i64,
+        max_input_format: i64,
+        tenant_share: i64,
+    ) -> Result<Option<Claimed>, StoreError>;
+
+    /// [`Store::claim_shared`] with no bound on a tenant's running jobs.
     async fn claim_up_to(
         &self,
         owner: &str,
         lease_ms: i64,
         max_input_format: i64,
-    ) -> Result<Option<Claimed>, StoreError>;
+    ) -> Result<Option<Claimed>, StoreError> {
+        self.claim_shared(owner, lease_ms, max_input_format, i64::MAX)
+            .await
+    }
 
     /// [`Store::claim_up_to`] the formats this binary runs ([`INPUT_FORMAT`]).
     async fn claim(&self, owner: &str, lease_ms: i64) -> Result<Option<Claimed>, StoreError> {
@@ -98,7 +147,9 @@ pub trait Store: Send + Sync + 'static {
     /// Give a claimed job back to the queue without counting the attempt (shutdown).
     async fn release(&self, lease: &Lease) -> Result<(), StoreError>;
 
-    /// Requeue running jobs whose lease expired (failing those out of attempts).
+    /// Requeue running jobs whose lease expired: their worker died, which is not their
+    /// fault. A job whose worker died `max_attempts` times in a row without the job getting
+    /// further than before is failed instead (it appears to kill its worker).
     async fn recover_expired(&self, max_attempts: i64) -> Result<u64, StoreError>;
 
     async fn get_artifact(&self, id: &str, name: &str) -> Result<Option<Artifact>, StoreError>;

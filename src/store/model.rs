@@ -86,7 +86,8 @@ pub enum FailureKind {
     Panic,
     /// Cancelled on request.
     Cancelled,
-    /// Its worker stopped heartbeating too many times.
+    /// Its worker died too many times in a row without the job getting further (a job
+    /// that kills its worker); deaths with headway, restarts say, do not count.
     LeaseExpired,
     /// Still running at the wall-clock limit (`--job-time-limit`); stopped.
     TimeLimit,

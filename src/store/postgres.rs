@@ -48,6 +48,10 @@ impl Backend for Postgres {
     const SERVER_CLOCK_MS: Option<&'static str> =
         Some("(extract(epoch from clock_timestamp()) * 1000)::bigint");
     const GREATEST: &'static str = "GREATEST";
+    /// 1.5 s: with the server down, readiness and submissions answer 503 within 2 s (each
+    /// wait for a connection retries the connect until then). A healthy pool hands out a
+    /// connection in milliseconds, so only an absent or swamped server reaches it.
+    const ACQUIRE_TIMEOUT: Duration = Duration::from_millis(1500);
     type Listener = ListenTask;
 
     /// Connect and migrate. The database must exist; its schema is created on first use

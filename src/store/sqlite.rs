@@ -22,6 +22,8 @@ impl Backend for Sqlite {
     const CLAIM_LOCK: &'static str = "";
     const SERVER_CLOCK_MS: Option<&'static str> = None;
     const GREATEST: &'static str = "MAX";
+    /// As long as a request may take: connections of a local file are only ever busy.
+    const ACQUIRE_TIMEOUT: Duration = Duration::from_secs(30);
     type Listener = ();
 
     /// Open (creating the file and its directory if needed) and migrate.

@@ -426,17 +426,6 @@ async fn errors_from_the_http_layer_are_problem_json() {
     assert!(got.contains("application/problem+json"), "{got}");
 }
 
-/// Two tokens as `--tokens` takes them, and the tokens themselves.
-fn two_tokens() -> (String, &'static str, &'static str) {
-    let (a, b) = ("bs_token-of-lab-a", "bs_token-of-lab-b");
-    let list = format!(
-        "lab-a:{},lab-b:{}",
-        bearing_sim::config::hash_token(a),
-        bearing_sim::config::hash_token(b)
-    );
-    (list, a, b)
-}
-
 #[tokio::test]
 async fn with_tokens_each_client_sees_and_changes_only_its_own_jobs() {
     let (list, a, b) = two_tokens();

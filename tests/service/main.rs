@@ -6,6 +6,7 @@
 
 mod common;
 
+mod abuse;
 mod api;
 mod bench_cli;
 mod concurrency;

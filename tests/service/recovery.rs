@@ -84,3 +84,60 @@ async fn a_study_survives_sigkill_and_completes_after_restart() {
     assert_eq!(status, 200);
     assert_eq!(table["rows"].as_array().unwrap().len(), 2);
 }
+
+/// Kill the server once the job runs its `attempt`-th time (and, with `headway`, has
+/// reported progress in it beyond what any earlier attempt reached), then restart it.
+async fn kill_during_attempt(
+    c: &reqwest::Client,
+    s: Server,
+    db: &std::path::Path,
+    args: &[&str],
+    id: &str,
+    attempt: i64,
+    headway_over: Option<f64>,
+) -> Server {
+    let mut s = s;
+    wait_until(c, &s, id, Duration::from_secs(60), |j| {
+        j["state"] == "running"
+            && j["attempt"] == attempt
+            && headway_over.is_none_or(|p| j["progress"].as_f64().unwrap_or(0.0) > p + 0.02)
+    })
+    .await;
+    s.kill();
+    Server::start(db, args)
+}
+
+#[tokio::test]
+async fn a_healthy_job_survives_three_sigkills_and_a_job_that_kills_its_worker_is_stopped() {
+    let (_dir, db) = temp_db();
+    let args = ["--workers", "1", "--lease-secs", "1", "--max-attempts", "3"];
+    let c = client();
+
+    // The case: SIGKILLed three times mid-run. The first death comes after the job
+    // got somewhere; the next two right after it was claimed again (no headway): still
+    // fewer than --max-attempts deaths in a row without headway, so it runs on.
+    let s = Server::start(&db, &args);
+    let id = submit(&c, &s, &short_scene(0.2)).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 1, Some(0.0)).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 2, None).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 3, None).await;
+    let job = wait_finished(&c, &s, &id, Duration::from_secs(300)).await;
+    assert_eq!(job["state"], "succeeded", "{job}\n{}", s.log());
+    assert_eq!(job["attempt"], 4, "{job}");
+
+    // A job during which its worker dies each time at the same point (right after the
+    // claim, before any progress) is stopped after --max-attempts such deaths, saying so.
+    let id = submit(&c, &s, &short_scene(0.2)).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 1, None).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 2, None).await;
+    let s = kill_during_attempt(&c, s, &db, &args, &id, 3, None).await;
+    let job = wait_finished(&c, &s, &id, Duration::from_secs(60)).await;
+    assert_eq!(job["state"], "failed", "{job}\n{}", s.log());
+    assert_eq!(job["attempt"], 3, "{job}");
+    assert_eq!(job["error"]["kind"], "lease_expired", "{job}");
+    let message = job["error"]["message"].as_str().unwrap();
+    assert!(
+        message.contains("died 3 times in a row") && message.contains("kill its worker"),
+        "{message}"
+    );
+}

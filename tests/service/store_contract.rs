@@ -35,6 +35,8 @@ macro_rules! contract {
 contract!(
     a_stale_lease_can_never_write,
     lost_leases_give_up_after_max_attempts_and_release_does_not_count,
+    worker_deaths_with_headway_never_stop_a_job,
+    claims_go_round_the_tenants_within_their_share,
     admission_idempotency_and_cancel,
     tenants_keep_their_idempotency_keys_and_listings_apart,
     listings_filter_and_page,
@@ -157,6 +159,79 @@ async fn lost_leases_give_up_after_max_attempts_and_release_does_not_count(s: Ar
     let job = s.get_job(&id).await.unwrap();
     assert_eq!(job.state, JobState::Failed);
     assert_eq!(job.error.unwrap().kind, FailureKind::LeaseExpired);
+}
+
+/// A job whose worker dies again and again (restarts, SIGKILLs) is requeued every time as
+/// long as it gets further than before; deaths at one point in a row stop it, saying why.
+async fn worker_deaths_with_headway_never_stop_a_job(s: Arc<dyn Store>) {
+    let id = s.create_job(new_job(None, "h"), 10).await.unwrap().job.id;
+    // A dies twice without headway: 2 strikes of 3
+    for _ in 0..2 {
+        let l = s.claim("A", -1).await.unwrap().unwrap().lease;
+        s.heartbeat(&l, 0.0, -1).await.unwrap();
+        s.recover_expired(3).await.unwrap();
+    }
+    // ten deaths, each further than before: never stopped, and the strikes start again
+    for k in 1..=10 {
+        let l = s.claim("A", -1).await.unwrap().unwrap().lease;
+        s.heartbeat(&l, 0.05 * k as f64, -1).await.unwrap();
+        s.recover_expired(3).await.unwrap();
+        let job = s.get_job(&id).await.unwrap();
+        assert_eq!(job.state, JobState::Queued, "death {k}: {:?}", job.error);
+    }
+    // within 1% of the best is no headway: the third such death in a row stops it
+    for k in 1..=3 {
+        let l = s.claim("A", -1).await.unwrap().unwrap().lease;
+        s.heartbeat(&l, 0.505, -1).await.unwrap();
+        s.recover_expired(3).await.unwrap();
+        let job = s.get_job(&id).await.unwrap();
+        let want = if k < 3 {
+            JobState::Queued
+        } else {
+            JobState::Failed
+        };
+        assert_eq!(job.state, want, "death {k} without headway");
+    }
+    let err = s.get_job(&id).await.unwrap().error.unwrap();
+    assert_eq!(err.kind, FailureKind::LeaseExpired);
+    assert!(err.message.contains("poison"), "{}", err.message);
+}
+
+/// Claims take the tenant running fewest first (then the oldest job), and never a job of
+/// a tenant already running its share.
+async fn claims_go_round_the_tenants_within_their_share(s: Arc<dyn Store>) {
+    let mut a = Vec::new();
+    for i in 0..3 {
+        a.push(
+            s.create_job(new_job_of("a", None, &format!("a{i}")), 10)
+                .await
+                .unwrap()
+                .job
+                .id,
+        );
+    }
+    let b = s
+        .create_job(new_job_of("b", None, "b0"), 10)
+        .await
+        .unwrap()
+        .job
+        .id;
+    let claim = |share: i64| {
+        let s = s.clone();
+        async move {
+            s.claim_shared("W", 60_000, INPUT_FORMAT, share)
+                .await
+                .unwrap()
+                .map(|c| c.lease.id)
+        }
+    };
+    // no bound: round robin, so b's job, queued last, runs second
+    assert_eq!(claim(i64::MAX).await.as_deref(), Some(a[0].as_str()));
+    assert_eq!(claim(i64::MAX).await.as_deref(), Some(b.as_str()));
+    assert_eq!(claim(i64::MAX).await.as_deref(), Some(a[1].as_str()));
+    // a share of 2: a runs 2 already, b has nothing queued
+    assert_eq!(claim(2).await, None);
+    assert_eq!(claim(3).await.as_deref(), Some(a[2].as_str()));
 }
 
 async fn admission_idempotency_and_cancel(s: Arc<dyn Store>) {

@@ -34,6 +34,12 @@ pub trait Backend:
     /// The larger of two values: `GREATEST` (PostgreSQL) or the two-argument `MAX` (SQLite).
     const GREATEST: &'static str;
 
+    /// How long a statement waits for a connection of the pool before it fails. Where the
+    /// database is a server that can be away (PostgreSQL), short: a request then answers
+    /// 503 at once instead of hanging to its timeout. Where it is a local file (SQLite),
+    /// a connection is only ever busy, never unreachable, and waiting is right.
+    const ACQUIRE_TIMEOUT: Duration;
+
     /// What the backend keeps beside its pool (PostgreSQL: the LISTEN task).
     type Listener: Default + Send + Sync + 'static;
 
@@ -62,9 +68,10 @@ pub fn lease_clock<B: Backend>(now: &'static str) -> &'static str {
     B::SERVER_CLOCK_MS.unwrap_or(now)
 }
 
-/// The pool either backend opens: 8 connections a process, 30 s to wait for one.
+/// The pool either backend opens: 8 connections a process, waiting for one at most the
+/// backend's [`Backend::ACQUIRE_TIMEOUT`].
 pub fn pool_options<B: Backend>() -> PoolOptions<B> {
     PoolOptions::new()
         .max_connections(8)
-        .acquire_timeout(Duration::from_secs(30))
+        .acquire_timeout(B::ACQUIRE_TIMEOUT)
 }

@@ -29,6 +29,7 @@ pub(super) async fn create<B: Backend>(
     pool: &Pool<B>,
     job: NewJob,
     max_queued: i64,
+    tenant_max_queued: i64,
 ) -> Result<Created, StoreError> {
     let now = now_ms();
     let scoped_key = job
@@ -41,6 +42,7 @@ pub(super) async fn create<B: Backend>(
         "INSERT INTO jobs (id, tenant, kind, state, input, input_blob, idempotency_key, request_hash, label, created_at, updated_at, input_format) \
          SELECT $1, $2, $3, 'queued', $4, $5, $6, $7, $8, $9, $9, $11 \
          WHERE (SELECT COUNT(*) FROM jobs WHERE state = 'queued') < $10 \
+         AND (SELECT COUNT(*) FROM jobs WHERE state = 'queued' AND tenant = $2) < $12 \
          ON CONFLICT (idempotency_key) DO NOTHING",
     )
     .param(&job.id)
@@ -54,6 +56,7 @@ pub(super) async fn create<B: Backend>(
     .param(now)
     .param(max_queued)
     .param(job.input_format)
+    .param(tenant_max_queued)
     .execute(B::on(&mut *tx))
     .await?
     .rows_affected();
@@ -78,6 +81,15 @@ pub(super) async fn create<B: Backend>(
                 created: false,
             });
         }
+    }
+    let tenant_queued: i64 =
+        sqlx::query("SELECT COUNT(*) AS n FROM jobs WHERE state = 'queued' AND tenant = $1")
+            .param(&job.tenant)
+            .fetch_one(B::on_pool(pool))
+            .await?
+            .int("n")?;
+    if tenant_queued >= tenant_max_queued {
+        return Err(StoreError::TenantQueueFull(tenant_queued));
     }
     Err(StoreError::QueueFull(counts(pool).await?.queued))
 }

@@ -71,8 +71,13 @@ impl<B: Backend> Store for SqlStore<B> {
         B::wake_on_new_work(&self.pool, &self.listener, wake).await
     }
 
-    async fn create_job(&self, job: NewJob, max_queued: i64) -> Result<Created, StoreError> {
-        jobs::create(&self.pool, job, max_queued).await
+    async fn create_job_within(
+        &self,
+        job: NewJob,
+        max_queued: i64,
+        tenant_max_queued: i64,
+    ) -> Result<Created, StoreError> {
+        jobs::create(&self.pool, job, max_queued, tenant_max_queued).await
     }
 
     async fn get_job(&self, id: &str) -> Result<Job, StoreError> {
@@ -91,13 +96,14 @@ impl<B: Backend> Store for SqlStore<B> {
         jobs::delete(&self.pool, id).await
     }
 
-    async fn claim_up_to(
+    async fn claim_shared(
         &self,
         owner: &str,
         lease_ms: i64,
         max_input_format: i64,
+        tenant_share: i64,
     ) -> Result<Option<Claimed>, StoreError> {
-        queue::claim(&self.pool, owner, lease_ms, max_input_format).await
+        queue::claim(&self.pool, owner, lease_ms, max_input_format, tenant_share).await
     }
 
     async fn heartbeat(

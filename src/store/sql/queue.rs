@@ -21,13 +21,17 @@ fn fenced<'q, B: Backend>(sql: &'q str, lease: &'q Lease) -> Statement<'q, B> {
         .param(lease.attempt)
 }
 
-/// The job the next claim takes (its `seq`): the oldest queued one whose input format
-/// is at most `$4`, locked as the backend needs ([`Backend::CLAIM_LOCK`]). The one place
-/// that decides the order jobs are run in.
+/// The job the next claim takes (its `seq`), locked as the backend needs
+/// ([`Backend::CLAIM_LOCK`]): a queued one whose input format is at most `$4`, of a
+/// tenant running fewer than `$5` jobs; of those tenants the one running fewest first
+/// (round robin: one tenant's backlog never starves another's job), then the oldest.
+/// The one place that decides the order jobs are run in. Two claims at once (PostgreSQL)
+/// may both count a tenant below its share and let it run one more.
 fn next_claimable<B: Backend>() -> String {
+    let running = "(SELECT COUNT(*) FROM jobs r WHERE r.state = 'running' AND r.tenant = q.tenant)";
     format!(
-        "SELECT seq FROM jobs WHERE state = 'queued' AND input_format <= $4 \
-         ORDER BY seq LIMIT 1{}",
+        "SELECT q.seq FROM jobs q WHERE q.state = 'queued' AND q.input_format <= $4 \
+         AND {running} < $5 ORDER BY {running}, q.seq LIMIT 1{}",
         B::CLAIM_LOCK
     )
 }
@@ -37,10 +41,12 @@ pub(super) async fn claim<B: Backend>(
     owner: &str,
     lease_ms: i64,
     max_input_format: i64,
+    tenant_share: i64,
 ) -> Result<Option<Claimed>, StoreError> {
     let now = now_ms();
     let row = sqlx::query(&format!(
         "UPDATE jobs SET state = 'running', owner = $1, lease_expires_at = {clock} + $2, attempt = attempt + 1, \
+             attempt_progress = 0, claim_progress = progress, \
              started_at = COALESCE(started_at, $3), updated_at = $3, version = version + 1 \
          WHERE seq = ({next}) AND state = 'queued' \
          RETURNING id, kind, attempt, input, input_blob, cancel_requested",
@@ -51,6 +57,7 @@ pub(super) async fn claim<B: Backend>(
     .param(lease_ms)
     .param(now)
     .param(max_input_format)
+    .param(tenant_share.max(1))
     .fetch_optional(B::on_pool(pool))
     .await?;
     row.map(|r| claimed_from_row(owner, &r)).transpose()
@@ -69,7 +76,8 @@ pub(super) async fn heartbeat<B: Backend>(
         0.0
     };
     let sql = format!(
-        "UPDATE jobs SET lease_expires_at = {clock} + $4, progress = {greatest}(progress, $5), updated_at = $6, \
+        "UPDATE jobs SET lease_expires_at = {clock} + $4, progress = {greatest}(progress, $5), \
+             attempt_progress = $5, updated_at = $6, \
              version = version + (CASE WHEN progress < $5 THEN 1 ELSE 0 END) \
          WHERE {HELD} RETURNING cancel_requested",
         clock = lease_clock::<B>("$6"),
@@ -151,6 +159,12 @@ pub(super) async fn release<B: Backend>(pool: &Pool<B>, lease: &Lease) -> Result
     Ok(())
 }
 
+/// How much further (a fraction of the job) an attempt must get than every earlier one for
+/// its worker's death to count as headway: more than the progress between two heartbeats
+/// of all but the shortest jobs, so that a job dying at one point does not seem to
+/// advance because its last heartbeat fell a little later.
+const HEADWAY: &str = "0.01";
+
 pub(super) async fn recover_expired<B: Backend>(
     pool: &Pool<B>,
     max_attempts: i64,
@@ -175,19 +189,24 @@ pub(super) async fn recover_expired<B: Backend>(
     .execute(B::on(&mut *tx))
     .await?
     .rows_affected();
+    // A worker that died is not the job's fault: the job is requeued, however often that
+    // happens, as long as it gets further than before. Only deaths in a row without
+    // headway (a job that kills its worker at the same point each time) stop it.
+    let no_headway = format!("attempt_progress < claim_progress + {HEADWAY}");
     let failed = sqlx::query(&format!(
         "UPDATE jobs SET state = 'failed', error = $3, owner = NULL, lease_expires_at = NULL, \
-             finished_at = $1, updated_at = $1, version = version + 1 \
-         WHERE {expired} AND attempt >= $2"
+             worker_deaths = worker_deaths + 1, finished_at = $1, updated_at = $1, version = version + 1 \
+         WHERE {expired} AND {no_headway} AND worker_deaths + 1 >= $2"
     ))
     .param(now)
     .param(max_attempts)
-    .param(lease_expired_error(max_attempts))
+    .param(poison_error(max_attempts))
     .execute(B::on(&mut *tx))
     .await?
     .rows_affected();
     let requeued = sqlx::query(&format!(
         "UPDATE jobs SET state = 'queued', owner = NULL, lease_expires_at = NULL, updated_at = $1, \
+             worker_deaths = CASE WHEN {no_headway} THEN worker_deaths + 1 ELSE 0 END, \
              version = version + 1 \
          WHERE {expired}"
     ))

@@ -208,12 +208,13 @@ pub(super) fn finished_row(outcome: Outcome) -> FinishedRow {
     )
 }
 
-/// The error a job gets when the workers lost it `max_attempts` times.
-pub(super) fn lease_expired_error(max_attempts: i64) -> String {
+/// The error of a job whose worker died `max_attempts` times in a row without the job
+/// getting further: it appears to kill its worker.
+pub(super) fn poison_error(max_attempts: i64) -> String {
     serde_json::to_string(&JobError {
         kind: FailureKind::LeaseExpired,
         message: format!(
-            "the worker running this job stopped responding {max_attempts} times; giving up"
+            "the worker running this job died {max_attempts} times in a row, each time before the job got further than before: the job appears to kill its worker (a poison job), so it is not run again"
         ),
     })
     .unwrap_or_default()

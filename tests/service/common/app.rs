@@ -39,6 +39,11 @@ impl std::io::Write for LogWriter {
 impl TestApp {
     /// Serve on `db` (a file path) with extra `serve` flags; returns once `/healthz` answers.
     pub fn spawn(db: &Path, args: &[&str]) -> TestApp {
+        TestApp::spawn_on(&format!("sqlite://{}", db.display()), args)
+    }
+
+    /// Serve on the database `url` names (SQLite or PostgreSQL), as [`TestApp::spawn`].
+    pub fn spawn_on(url: &str, args: &[&str]) -> TestApp {
         // Each app logs into its own buffer (shown by `log()` in failure messages): every
         // thread of its runtime, blocking ones included, gets the app's subscriber.
         let log = Arc::new(Mutex::new(Vec::new()));
@@ -52,8 +57,7 @@ impl TestApp {
                 .with_writer(move || LogWriter(sink.clone()))
                 .finish(),
         );
-        let url = format!("sqlite://{}", db.display());
-        let mut argv = vec!["serve", "--bind", "127.0.0.1:0", "--database-url", &url];
+        let mut argv = vec!["serve", "--bind", "127.0.0.1:0", "--database-url", url];
         argv.extend_from_slice(args);
         let config = ServeFlags::try_parse_from(argv)
             .unwrap_or_else(|e| panic!("bad test flags {args:?}: {e}"))

@@ -17,6 +17,9 @@ pub struct PgCluster {
     /// Runs the server programs as this user (PostgreSQL refuses to run as root).
     run_as: Option<String>,
     port: u16,
+    data: PathBuf,
+    /// The server's options, for a start after a stop.
+    opts: String,
 }
 
 /// The server of this test binary, started on first use; `None` (after a loud message)
@@ -97,11 +100,18 @@ impl PgCluster {
                 ));
             }
         }
+        let opts = format!(
+            "-k '{}' -p {port} -c listen_addresses='' -c fsync=off -c synchronous_commit=off \
+             -c full_page_writes=off -c max_connections=300",
+            base.display()
+        );
         let c = PgCluster {
             bin,
             socket_dir: base.clone(),
             run_as,
             port,
+            data: data.clone(),
+            opts,
         };
         // Armed first: whatever happens next, the directory goes when this process does.
         c.watch_for_exit(&data, &base);
@@ -120,25 +130,92 @@ impl PgCluster {
                 "UTF8".as_ref(),
             ],
         )?;
-        let opts = format!(
-            "-k '{}' -p {port} -c listen_addresses='' -c fsync=off -c synchronous_commit=off \
-             -c full_page_writes=off -c max_connections=300",
-            base.display()
-        );
-        c.run(
+        c.start_server()?;
+        Ok(c)
+    }
+
+    /// A server of the caller's own, which it may stop and start (the shared one of
+    /// [`pg_cluster`] must stay up for the other tests); `None` as for [`pg_cluster`].
+    pub fn own() -> Option<PgCluster> {
+        pg_cluster()?;
+        Some(PgCluster::start().expect("a second PostgreSQL server"))
+    }
+
+    /// Start the server (again, after [`PgCluster::stop`]) and wait until it accepts.
+    pub fn start_server(&self) -> Result<(), String> {
+        let log = self.socket_dir.join("server.log");
+        self.run(
             "pg_ctl",
             &[
                 "-D".as_ref(),
-                data.as_os_str(),
+                self.data.as_os_str(),
                 "-o".as_ref(),
-                opts.as_ref(),
+                self.opts.as_ref(),
                 "-l".as_ref(),
-                base.join("server.log").as_os_str(),
+                log.as_os_str(),
                 "-w".as_ref(),
                 "start".as_ref(),
             ],
-        )?;
-        Ok(c)
+        )
+    }
+
+    /// The server's processes: the postmaster (first line of `postmaster.pid`) and its
+    /// children.
+    fn processes(&self) -> Vec<i32> {
+        let pid_file = self.data.join("postmaster.pid");
+        let text = std::fs::read_to_string(&pid_file).expect("postmaster.pid");
+        let main: i32 = text.lines().next().unwrap().trim().parse().unwrap();
+        let mut pids = vec![main];
+        for entry in std::fs::read_dir("/proc").unwrap().flatten() {
+            let Ok(pid) = entry.file_name().to_string_lossy().parse::<i32>() else {
+                continue;
+            };
+            let stat = std::fs::read_to_string(entry.path().join("stat")).unwrap_or_default();
+            // "pid (comm) state ppid ...": the fields after the last ')'
+            let ppid = stat
+                .rsplit_once(')')
+                .and_then(|(_, rest)| rest.split_whitespace().nth(1))
+                .and_then(|p| p.parse::<i32>().ok());
+            if ppid == Some(main) {
+                pids.push(pid);
+            }
+        }
+        pids
+    }
+
+    /// Freeze the server (SIGSTOP to it and its children): connections are accepted and
+    /// never answered, as with a host that went away.
+    pub fn freeze(&self) {
+        for pid in self.processes() {
+            // SAFETY: kill has no memory preconditions; these are our server's processes.
+            unsafe { libc::kill(pid, libc::SIGSTOP) };
+        }
+    }
+
+    /// Let a frozen server run on.
+    pub fn thaw(&self) {
+        for pid in self.processes() {
+            // SAFETY: as in `freeze`.
+            unsafe { libc::kill(pid, libc::SIGCONT) };
+        }
+    }
+
+    /// Stop the server (its clients' connections are cut at once). A fast shutdown, not an
+    /// immediate one: with fsync and synchronous commit off, an immediate stop would lose
+    /// the last commits, the schema's migrations among them.
+    pub fn stop(&self) {
+        self.run(
+            "pg_ctl",
+            &[
+                "-D".as_ref(),
+                self.data.as_os_str(),
+                "-m".as_ref(),
+                "fast".as_ref(),
+                "-w".as_ref(),
+                "stop".as_ref(),
+            ],
+        )
+        .expect("pg_ctl stop");
     }
 
     /// Run one of the server programs (as the `postgres` user when we are root).

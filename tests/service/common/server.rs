@@ -367,3 +367,14 @@ pub fn temp_db() -> (tempfile::TempDir, PathBuf) {
     let db = dir.path().join("jobs.db");
     (dir, db)
 }
+
+/// Two tokens as `--tokens` takes them, and the tokens themselves.
+pub fn two_tokens() -> (String, &'static str, &'static str) {
+    let (a, b) = ("bs_token-of-lab-a", "bs_token-of-lab-b");
+    let list = format!(
+        "lab-a:{},lab-b:{}",
+        bearing_sim::config::hash_token(a),
+        bearing_sim::config::hash_token(b)
+    );
+    (list, a, b)
+}

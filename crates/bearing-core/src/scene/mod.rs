@@ -17,4 +17,4 @@ pub use presets::{
     fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase, Table2Group,
 };
 pub use valid::ValidScene;
-pub use validate::{FieldError, ValidationErrors};
+pub use validate::{FieldError, ValidationErrors, MAX_LOAD_PER_STATIC_CAPACITY, MAX_NAME_CHARS};

@@ -44,6 +44,22 @@ impl ValidationErrors {
 /// Most defects a scene may have.
 pub const MAX_FAULTS: usize = 16;
 
+/// Heaviest load a scene may put on its bearing, as a multiple of the bearing's reference
+/// static capacity `15 MPa x Z x D^2` (ISO 76's `f0 Z D^2 cos(alpha)` with the largest `f0`
+/// of ball bearings, about 15 N/mm^2). At the static capacity the heaviest contact is near
+/// 4.2 GPa; contact pressure grows with the cube root of load, so 100x puts it near 19 GPa,
+/// beyond any bearing material: a larger load (1e12 N used to give a 4.47 m displacement)
+/// describes no bearing that exists.
+pub const MAX_LOAD_PER_STATIC_CAPACITY: f64 = 100.0;
+
+/// `f0` of [`MAX_LOAD_PER_STATIC_CAPACITY`], Pa.
+const STATIC_CAPACITY_FACTOR: f64 = 15e6;
+
+/// Longest scene name, in characters: a label for listings and plot titles (a study's name
+/// has the same bound). Unbounded, ten 30 MiB names grew the database to 1 GB and one
+/// job listing to 315 MB.
+pub const MAX_NAME_CHARS: usize = 200;
+
 struct Checker {
     errs: Vec<FieldError>,
 }
@@ -104,6 +120,13 @@ impl Scene {
     /// Check every field and every geometric compatibility; report all problems.
     pub fn validate(&self) -> Result<(), ValidationErrors> {
         let mut c = Checker { errs: Vec::new() };
+        let name_chars = self.name.chars().count();
+        if name_chars > MAX_NAME_CHARS {
+            c.push(
+                "name",
+                format!("at most {MAX_NAME_CHARS} characters, got {name_chars}"),
+            );
+        }
         let b = &self.bearing;
         let mut geom_ok = true;
         geom_ok &= c.pos("bearing.bore_diameter", b.bore_diameter, "m");
@@ -310,10 +333,18 @@ impl Scene {
         );
         c.pos("operating.speed.steady_rpm", o.speed.steady_rpm, "rev/min");
         c.nonneg("operating.speed.ramp_time", o.speed.ramp_time, "s");
-        if o.speed.steady_rpm.is_finite() && o.speed.steady_rpm > 100_000.0 {
-            c.push("operating.speed.steady_rpm", "must be <= 100000 rev/min");
+        for (path, rpm) in [
+            ("operating.speed.steady_rpm", o.speed.steady_rpm),
+            ("operating.speed.initial_rpm", o.speed.initial_rpm),
+        ] {
+            if rpm.is_finite() && rpm > 100_000.0 {
+                c.push(path, "must be <= 100000 rev/min");
+            }
         }
         c.nonneg("operating.radial_load", o.radial_load, "N");
+        if geom_ok {
+            check_loads(&mut c, self);
+        }
         c.finite("operating.radial_load_angle", o.radial_load_angle);
         if c.nonneg("operating.axial_load", o.axial_load, "N")
             && o.axial_load == 0.0
@@ -353,7 +384,9 @@ impl Scene {
                 let base = format!("faults[{i}]");
                 c.finite(&format!("{base}.angle"), f.angle);
                 let w_ok = c.pos(&format!("{base}.width"), f.width, "m");
-                c.pos(&format!("{base}.depth"), f.depth, "m");
+                if c.pos(&format!("{base}.depth"), f.depth, "m") && geom_ok {
+                    check_depth(&mut c, &format!("{base}.depth"), f, b);
+                }
                 if w_ok && geom_ok {
                     // A defect wider than the raceway (the groove arc a ball can touch, taken as
                     // the ball diameter) is no longer a localized defect.
@@ -382,8 +415,22 @@ impl Scene {
         }
 
         let s = &self.solver;
-        if c.pos("solver.duration", s.duration, "s") && s.duration > 10.0 {
-            c.push("solver.duration", "must be <= 10 s");
+        if c.pos("solver.duration", s.duration, "s") {
+            if s.duration > 10.0 {
+                c.push("solver.duration", "must be <= 10 s");
+            } else if s.sample_rate.is_finite()
+                && s.sample_rate > 0.0
+                && s.duration * s.sample_rate < 1.0
+            {
+                // a run shorter than one output sample records nothing to look at
+                c.push(
+                    "solver.duration",
+                    format!(
+                        "must be at least one output sample, 1 / solver.sample_rate = {:.3e} s",
+                        1.0 / s.sample_rate
+                    ),
+                );
+            }
         }
         if c.pos("solver.initial_step", s.initial_step, "s") && s.initial_step > 1e-3 {
             c.push("solver.initial_step", "must be <= 1e-3 s");
@@ -422,6 +469,57 @@ impl Scene {
         } else {
             Err(ValidationErrors(c.errs))
         }
+    }
+}
+
+/// Loads and moments within [`MAX_LOAD_PER_STATIC_CAPACITY`] of the bearing's reference
+/// static capacity (moments: that force at the pitch radius). Needs a valid geometry.
+fn check_loads(c: &mut Checker, s: &Scene) {
+    let b = &s.bearing;
+    let o = &s.operating;
+    let capacity = STATIC_CAPACITY_FACTOR * b.ball_count as f64 * b.ball_diameter.powi(2);
+    let max_force = MAX_LOAD_PER_STATIC_CAPACITY * capacity;
+    let why = format!(
+        "{MAX_LOAD_PER_STATIC_CAPACITY}x this bearing's reference static capacity ({capacity:.3e} N = 15 MPa x Z x D^2): contact stresses beyond any bearing material"
+    );
+    for (path, f) in [
+        ("operating.radial_load", o.radial_load),
+        ("operating.axial_load", o.axial_load),
+    ] {
+        if f.is_finite() && f > max_force {
+            c.push(path, format!("must be <= {max_force:.3e} N, {why}"));
+        }
+    }
+    let pitch_radius = 0.25 * (b.inner_groove_diameter + b.outer_groove_diameter);
+    let max_moment = max_force * pitch_radius;
+    for (i, m) in o.applied_moment.iter().enumerate() {
+        if m.is_finite() && m.abs() > max_moment {
+            c.push(
+                &format!("operating.applied_moment[{i}]"),
+                format!("must be within +-{max_moment:.3e} N m (the largest load at the pitch radius), {why}"),
+            );
+        }
+    }
+}
+
+/// A defect no deeper than a ball can feel: the ball's radius (defects are narrower than
+/// the ball, so it cannot sink further) and the ring's wall below the groove (deeper would
+/// cut through the ring). A 1 m deep defect used to be accepted.
+fn check_depth(c: &mut Checker, path: &str, f: &Fault, b: &Bearing) {
+    let wall = 0.5
+        * match f.ring {
+            Ring::Inner => b.inner_groove_diameter - b.bore_diameter,
+            Ring::Outer => b.outer_diameter - b.outer_groove_diameter,
+        };
+    let ball_radius = 0.5 * b.ball_diameter;
+    if f.depth > ball_radius.min(wall) {
+        c.push(
+            path,
+            format!(
+                "must be <= {:.4e} m: the ball radius ({ball_radius:.4e} m) and the ring wall under the groove ({wall:.4e} m) bound what a ball can feel",
+                ball_radius.min(wall)
+            ),
+        );
     }
 }
 
@@ -695,6 +793,67 @@ mod tests {
                 eyring_stress: 5e6,
                 limiting_coefficient: 0.07
             }
+        );
+    }
+
+    #[test]
+    fn meaningless_inputs_are_refused_naming_their_field() {
+        let paths = |s: &Scene| -> Vec<String> {
+            s.validate()
+                .err()
+                .map(|e| e.0.into_iter().map(|e| e.path).collect())
+                .unwrap_or_default()
+        };
+        // the inputs: a 1 MiB name, 1e12 N, a 1 m defect, a 5e-324 s run
+        let mut s = scene();
+        s.name = "x".repeat(1 << 20);
+        s.operating.axial_load = 1e12;
+        s.operating.applied_moment = [0.0, 0.0];
+        s.operating.speed.initial_rpm = 1e12;
+        s.faults.push(Fault {
+            ring: Ring::Inner,
+            angle: 0.0,
+            width: 0.2e-3,
+            depth: 1.0,
+        });
+        s.solver.duration = 5e-324;
+        assert_eq!(
+            paths(&s),
+            [
+                "name",
+                "operating.speed.initial_rpm",
+                "operating.axial_load",
+                "faults[0].depth",
+                "solver.duration"
+            ]
+        );
+        // at the bounds: 200 characters (multi-byte ones count once), one output sample,
+        // a defect as deep as the ring wall or the ball radius, 100x the reference capacity
+        let mut s = scene();
+        let wall = 0.5 * (s.bearing.outer_diameter - s.bearing.outer_groove_diameter);
+        s.name = "\u{e9}".repeat(MAX_NAME_CHARS);
+        s.solver.duration = 1.0 / s.solver.sample_rate;
+        let capacity = 15e6 * s.bearing.ball_count as f64 * s.bearing.ball_diameter.powi(2);
+        s.operating.radial_load = 100.0 * capacity;
+        s.faults.push(Fault {
+            ring: Ring::Outer,
+            angle: 0.0,
+            width: 0.2e-3,
+            depth: wall.min(0.5 * s.bearing.ball_diameter),
+        });
+        assert_eq!(paths(&s), Vec::<String>::new());
+        s.name.push('x');
+        s.operating.radial_load *= 1.01;
+        s.faults[0].depth *= 1.01;
+        s.solver.duration *= 0.99;
+        assert_eq!(
+            paths(&s),
+            [
+                "name",
+                "operating.radial_load",
+                "faults[0].depth",
+                "solver.duration"
+            ]
         );
     }
 
