@@ -65,7 +65,8 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
         rolling_resistance,
         traction: None,
     };
-    let film = |name: &str, shear_modulus, eyring_stress, limiting_coefficient, with_drag| {
+    // a traction law, alone or with drag (oil fraction 0.01) and rolling resistance
+    let law = |name: &str, traction, with_drag: bool| {
         let (cavity_drag, rolling_resistance) = if with_drag {
             (drag(0.01), houpert)
         } else {
@@ -75,28 +76,23 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
             name: name.into(),
             cavity_drag,
             rolling_resistance,
-            traction: Some(Traction::Film {
-                shear_modulus,
-                eyring_stress,
-                limiting_coefficient,
-            }),
+            traction: Some(traction),
         }
     };
-    let rheology = |name: &str, limiting_coefficient, roelands_z, with_drag| {
-        let (cavity_drag, rolling_resistance) = if with_drag {
-            (drag(0.01), houpert)
-        } else {
-            (CavityDrag::None, RollingResistanceModel::None)
+    let film = |name: &str, shear_modulus, eyring_stress, limiting_coefficient, with_drag| {
+        let traction = Traction::Film {
+            shear_modulus,
+            eyring_stress,
+            limiting_coefficient,
         };
-        LubricantVariant {
-            name: name.into(),
-            cavity_drag,
-            rolling_resistance,
-            traction: Some(Traction::Rheology {
-                limiting_coefficient,
-                roelands_z,
-            }),
-        }
+        law(name, traction, with_drag)
+    };
+    let rheology = |name: &str, limiting_coefficient, roelands_z, with_drag| {
+        let traction = Traction::Rheology {
+            limiting_coefficient,
+            roelands_z,
+        };
+        law(name, traction, with_drag)
     };
     vec![
         LubricantVariant::paper(),
