@@ -153,7 +153,7 @@ fn drag_and_rolling_resistance_brake_the_cage() {
     assert!(c.mean_eccentricity < 0.3, "{c:?}");
 }
 
-/// The film traction law (Maxwell-Eyring film up to Bair & Winer's limiting shear stress): the normal equilibrium is unchanged, so the fidelity
+/// The earlier film traction law (an Eyring film with a limiting shear stress): the normal equilibrium is unchanged, so the fidelity
 /// checks hold; its low-slip slope on the loaded balls is ~240 times the preset curve's, so
 /// the solver needs more steps; and the cage runs slower than with the preset curve.
 #[test]

@@ -43,18 +43,19 @@ pub use super::rheology_traction::FILM_SPEED_FLOOR;
 /// Barus exponents above this are capped (the viscous compliance is then negligible).
 const MAX_BARUS_EXPONENT: f64 = 50.0;
 
-/// EHL film traction of one ball-race pair from the lubricant's rheology (docs/reference/model.md,
-/// "Traction laws"), a closed-form reading of the Maxwell-Eyring film with a limiting shear
-/// stress:
-/// - at small slip the film shears elastically over its transit of the contact (Johnson &
-///   Tevaarwerk 1977: mean stress `G b s / (u h)`) in series with its piezoviscous flow
-///   (Barus viscosity at the mean Hertz pressure): slope `k` = both compliances added;
-/// - above the Eyring stress `tau0` the stress grows only logarithmically:
-///   `mu_E = (tau0 / p) asinh(k s p / tau0)` (Eyring; Johnson & Tevaarwerk);
-/// - the film cannot carry more than `Lambda p` (Bair & Winer 1979):
-///   `mu = Lambda tanh(mu_E / Lambda)`, the tanh transition of Gecim & Winer (1980).
+/// The earlier film law of one ball-race pair (docs/reference/model.md, "Traction laws",
+/// "The earlier `film` law"), kept to reproduce its studies; superseded by
+/// [`super::rheology_traction`]. One slope per contact:
+/// - at small slip an elastic film term over the contact's transit, `G b s / (u h)`, in
+///   series with Barus-viscous flow at the mean Hertz pressure (the project's own closed
+///   form; no read source gives it);
+/// - above the Eyring stress `tau0`, `mu_E = (tau0 / p) asinh(k s p / tau0)` (the form of
+///   Arana et al. 2019, eq. 13);
+/// - at most `Lambda p`, blended by `mu = Lambda tanh(mu_E / Lambda)` (a smoothing of the
+///   project's own).
 ///
-/// Film thickness: Hamrock & Dowson's central formula; `p` the mean Hertz pressure.
+/// Film thickness: Hamrock & Dowson's central formula (as given by Arana et al. 2019,
+/// eq. 19); `p` the mean Hertz pressure.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilmTraction {
     /// Limiting shear stress over pressure, -.
