@@ -203,6 +203,7 @@ pub async fn submit(
         (status = 400, response = BadRequest),
         (status = 404, response = NotFound),
         (status = 409, response = Conflict),
+        (status = 422, response = Invalid),
     )
 )]
 pub async fn signals(
