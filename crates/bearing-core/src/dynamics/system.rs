@@ -149,28 +149,22 @@ impl JacobianSystem for BearingSystem<'_> {
     /// radial velocity run away (the step underflowed within 3-8 ms).
     fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
         let m = self.model;
-        let track = &self.track;
+        // the grouped columns by differences: every block (`Blocks` at full fidelity) or the
+        // ball velocities (`BallVelocities`, whose partial matrix groups only those); the
+        // reduced levels' `Blocks` hold the land film alone
         let mut cost = 0;
-        if self.scope == JacobianScope::BallVelocities {
-            // the grouped ball-velocity columns alone (the other entries stay as set)
+        if m.quasi_static_balls && self.scope == JacobianScope::Blocks {
+            jac.clear();
+        } else {
+            let track = &self.track;
             jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
                 rhs_tracked(m, t, y, dy, None, Some(track))
             });
             cost = jac.cost_in_rhs() as u64;
         }
         if m.quasi_static_balls {
-            if self.scope == JacobianScope::Blocks {
-                jac.clear();
-            }
             // five land-force evaluations, a small fraction of one right-hand side
             self.land_film_jacobian(t, y, jac);
-            return cost;
-        }
-        if self.scope == JacobianScope::Blocks {
-            jac.evaluate(t, y, f0, self.scale, |t, y, dy| {
-                rhs_tracked(m, t, y, dy, None, Some(track))
-            });
-            cost = jac.cost_in_rhs() as u64;
         }
         cost
     }
