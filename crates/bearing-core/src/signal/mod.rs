@@ -11,7 +11,8 @@
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`verdict`]: the fault types the spectra indicate, with the evidence;
-//! - [`io`]: reading signals from raw f32le, CSV or JSON.
+//! - [`io`]: reading signals from raw f32le, CSV or JSON;
+//! - [`shaft_angle`]: the shaft's angle per sample, for order tracking.
 
 pub mod dtcwt;
 
@@ -22,6 +23,7 @@ pub mod hilbert;
 pub mod identify;
 pub mod kurtogram;
 pub mod kurtosis;
+pub mod shaft_angle;
 pub mod spectrum;
 pub mod verdict;
 
