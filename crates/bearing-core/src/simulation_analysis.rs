@@ -1,9 +1,11 @@
 //! Analysis of a simulated signal: the glue above the simulation and the signal analysis
 //! (neither knows the other).
 
+use crate::model::Model;
 use crate::scene::Scene;
 use crate::signal::analysis::{analyze, AnalysisError, AnalysisOptions, AnalysisOutput};
 use crate::signal::frequencies::{characteristic_frequencies, KinematicGeometry};
+use crate::signal::shaft_angle::{ShaftAngle, ShaftAngleError};
 use crate::signal::spectrum::band_rms;
 use crate::simulation::SimResult;
 use serde::{Deserialize, Serialize};
@@ -24,6 +26,20 @@ pub fn first_non_finite(result: &SimResult) -> Option<String> {
             .position(|x| !x.is_finite())
             .map(|k| format!("channel {} has a non-finite sample at index {k}", ch.name))
     })
+}
+
+/// The shaft's angle at every sample of a run's channels, rad: the inner ring's speed is
+/// prescribed by the scene's profile, so its angle is that profile's integral
+/// ([`Model::shaft_angle`]), exactly what the run turned. Order tracking resamples by it.
+pub fn run_shaft_angle(result: &SimResult, scene: &Scene) -> Result<ShaftAngle, String> {
+    let valid = scene.validated().map_err(|e| e.to_string())?;
+    let model = Model::new(&valid);
+    let ch = &result.channels;
+    let n = ch.channels.first().map_or(0, |c| c.data.len());
+    let angles = (0..n)
+        .map(|k| model.shaft_angle(ch.start_time + k as f64 / ch.sample_rate))
+        .collect();
+    ShaftAngle::new(angles, n).map_err(|e: ShaftAngleError| e.to_string())
 }
 
 /// The diagnosis of a run: the first of [`DIAGNOSIS_CHANNELS`] it recorded, analysed
@@ -204,6 +220,35 @@ mod tests {
         );
         assert!(c.bpfi_error_pct < 0.0 && c.loaded.bpfo < c.nominal.bpfo);
         assert_eq!(c.loaded_contact_angles, [0.27, 0.23]);
+    }
+
+    #[test]
+    fn a_runs_shaft_angle_integrates_its_speed_ramp() {
+        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
+        scene.operating.speed = crate::scene::SpeedProfile {
+            initial_rpm: 1_000.0,
+            steady_rpm: 10_000.0,
+            ramp_time: 0.2,
+        };
+        scene.solver.duration = 0.3;
+        let fs = 10_000.0;
+        let result = SimResult {
+            summary: Summary::default(),
+            channels: Channels {
+                sample_rate: fs,
+                start_time: 0.0,
+                channels: vec![Channel {
+                    name: "outer_ring_accel_y".into(),
+                    unit: "m/s^2".into(),
+                    data: vec![0.0; 3_001],
+                }],
+            },
+        };
+        let angle = run_shaft_angle(&result, &scene).unwrap();
+        // 1000 -> 10000 rpm over 0.2 s averages 5500 rpm: 18.33 rev; then 0.1 s at 10000
+        // rpm: 16.67 rev. The profile is integrated exactly, so only rounding remains.
+        assert!((angle.revolutions() - (5_500.0 * 0.2 + 10_000.0 * 0.1) / 60.0).abs() < 1e-9);
+        assert_eq!(angle.radians()[0], 0.0);
     }
 
     #[test]
