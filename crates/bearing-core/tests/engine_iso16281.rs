@@ -56,10 +56,8 @@ fn iso_test_bearing(pd: f64) -> Scene {
     s
 }
 
-/// Zero clearance written through the groove diameters rounds to about -7e-18 m, which
-/// validation refuses as balls that do not fit; 1 pm instead changes the displacements by
-/// under 1e-7 relative.
-const NO_CLEARANCE: f64 = 1e-12;
+/// No radial operating clearance, m.
+const NO_CLEARANCE: f64 = 0.0;
 
 /// Inner-ring displacement (axial, radial along the load) under a radial and an axial load
 /// (N) at zero speed, m, measured from the centred ring as the reference measures it. The
@@ -112,4 +110,15 @@ fn axial_deflection_with_clearance_matches_the_reference() {
     // example 4: Fa = 1000 N, 0.01 mm radial operating clearance -> 149.1717 um
     let (axial, _) = displacement(0.01e-3, 0.0, 1000.0);
     assert_within_0_1_percent("axial, example 4", axial, 149.1717e-6);
+}
+
+#[test]
+fn radial_deflection_with_clearance_matches_the_reference() {
+    // example 3: Fr = 1000 N, 0.01 mm radial operating clearance, no axial load -> 21.223 um
+    // (fewer balls carry the load than without clearance, so the ring moves further)
+    let (axial, radial) = displacement(0.01e-3, 1000.0, 0.0);
+    assert_within_0_1_percent("radial, example 3", radial, 21.223e-6);
+    // no axial load, so the ring stays centred between the grooves: 1 nm is far below the
+    // 149 um an axial load of the same size moves it
+    assert!(axial.abs() < 1e-9, "axial {axial:e} m");
 }

@@ -498,10 +498,24 @@ fn initial_guess(m: &Model) -> [f64; 5] {
     let fr = (m.applied_force[1].powi(2) + m.applied_force[2].powi(2)).sqrt();
     let q = (fa / (z * a0.sin().max(0.1)) + 2.5 * fr / z).max(1.0);
     let d = (q / kn).powf(2.0 / 3.0);
-    u[0] = d / a0.sin().max(0.1) * m.applied_force[0].signum();
+    u[0] = if fa > 0.0 {
+        d / a0.sin().max(0.1) * m.applied_force[0].signum()
+    } else {
+        // No axial load: the ring centred between the grooves, where the loaded balls'
+        // axial forces cancel (a bearing with clearance, e.g. a deep groove one under a
+        // radial load; an angular contact bearing has no equilibrium there anyway). The ring
+        // origin puts the inner groove's curvature centres half the axial clearance aside.
+        m.outer_race.centre_axial - m.inner_race.centre_axial
+    };
     if fr > 0.0 {
-        u[1] = 0.5 * d * m.applied_force[1] / fr;
-        u[2] = 0.5 * d * m.applied_force[2] / fr;
+        // centred, the ring first crosses the radial play A (1 - cos a0) before a ball carries
+        let play = if fa > 0.0 {
+            0.0
+        } else {
+            (m.inner_race.free_distance + m.outer_race.free_distance) * (1.0 - a0.cos())
+        };
+        u[1] = (0.5 * d + play) * m.applied_force[1] / fr;
+        u[2] = (0.5 * d + play) * m.applied_force[2] / fr;
     }
     u
 }
