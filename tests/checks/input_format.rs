@@ -30,6 +30,11 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         2,
         "6bee50198066d2df2e2f88a6ddf77a82dce5b8ae56b17a3b2eb07dd1a2b002da",
     ),
+    // the `auto_slip` integrator; a zero clearance that rounds a few ulp below zero is valid
+    (
+        3,
+        "101ca918439b7b7ccbb553961b30c3877ba1f8c4dcea534c0bade1605ad6219c",
+    ),
 ];
 
 /// Keys that document a schema without changing what parses.

@@ -8,7 +8,7 @@ use super::recorder::Recorder;
 use super::system::{ball_velocity_jacobian, bearing_jacobian, BearingSystem, JacobianScope};
 use super::window::steady_window;
 use crate::model::Model;
-use crate::ode::auto_switch::AutoSwitch;
+use crate::ode::auto_switch::{AutoSwitch, SwitchRule};
 use crate::ode::control::RunControl;
 use crate::ode::error::SolveError;
 use crate::ode::error_norm::ErrorNorm;
@@ -71,6 +71,14 @@ pub fn integrate(
         Integrator::SlipImplicit => {
             sys.scope = JacobianScope::BallVelocities;
             let method = Rosenbrock::new(n, norm, ball_velocity_jacobian(m));
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::AutoSlip => {
+            sys.scope = JacobianScope::BallVelocities;
+            let explicit = ExplicitRk::adaptive(&RK4_FSAL, n, norm.clone());
+            let implicit = Rosenbrock::new(n, norm, ball_velocity_jacobian(m));
+            let method = AutoSwitch::with_rule(explicit, implicit, SwitchRule::MeasuredCost);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }

@@ -378,6 +378,11 @@ pub enum Integrator {
     /// at low speed), explicit and undamped in the contact's elastic modes
     /// (docs/reference/model.md, "Time integration").
     SlipImplicit,
+    /// `rk4_fsal` and `slip_implicit`, each in turn challenged by the other: whichever
+    /// costs fewer right-hand sides per simulated second, measured as the run goes, carries
+    /// on (`slip_implicit` where the balls' slip relaxation holds the explicit step, at low
+    /// speed; docs/reference/model.md, "Time integration").
+    AutoSlip,
 }
 
 /// How much of the model a run integrates (docs/reference/model.md, "Fidelity levels").

@@ -759,6 +759,7 @@ mod tests {
                 Integrator::RosenbrockW,
                 Integrator::Auto,
                 Integrator::SlipImplicit,
+                Integrator::AutoSlip,
             ] {
                 s.solver.integrator = integrator;
                 assert!(s.validate().is_ok(), "{fidelity:?} {integrator:?}");
