@@ -102,9 +102,9 @@ fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
 /// relaxation no longer holds its step), at 2000 rpm the implicit one; under the rheology
 /// law at the default tolerance, no fault, 0.05 s. Where the explicit method wins, the
 /// implicit one's lost trials cost at most a quarter more than `rk4_fsal` alone (measured
-/// 38.1k against 34.7k, 1.10x); and a simulated second at 2000 rpm costs at most 1.5 times
-/// one at 10000 rpm in evaluations (issue 34's bound; measured 53.6k against 38.1k, 1.41x),
-/// where `rk4_fsal` alone takes 6x (208k against 34.7k).
+/// 37 980 against 34 669, 1.10x); and a simulated second at 2000 rpm costs at most 1.5 times
+/// one at 10000 rpm in evaluations (issue 34's bound; measured 53 547 against 37 980,
+/// 1.41x), where `rk4_fsal` alone takes 6x (210k against 34.7k).
 #[test]
 fn auto_slip_costs_little_more_at_low_speed_than_at_high() {
     let mut fast = constant_speed(0.05, 1e-5);
