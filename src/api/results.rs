@@ -11,7 +11,7 @@ use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::jobs::record::{AnalysisJobRecord, AnalysisRecord, SimulationRecord};
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, Job, JobKind};
-use axum::http::{header, HeaderValue};
+use axum::http::{header, HeaderMap, HeaderValue};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use bearing_core::signal::analysis::{AnalysisReport, MAX_LEVELS};
@@ -227,13 +227,36 @@ pub struct Marker {
     pub frequency: f64,
 }
 
-/// `GET .../spectra`.
+/// The request asks for CSV (`Accept: text/csv`).
+pub(super) fn wants_csv(headers: &HeaderMap) -> bool {
+    headers
+        .get(header::ACCEPT)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|a| a.contains("text/csv"))
+}
+
+/// A spectrum as CSV: `frequency_hz,amplitude`, one row per bin from 0 Hz.
+fn spectrum_csv(df: f64, amplitude: &[f64]) -> Response {
+    let mut out = String::from("frequency_hz,amplitude\n");
+    for (k, a) in amplitude.iter().enumerate() {
+        out.push_str(&format!("{},{a}\n", k as f64 * df));
+    }
+    let mut res = out.into_response();
+    res.headers_mut().insert(
+        header::CONTENT_TYPE,
+        HeaderValue::from_static("text/csv; charset=utf-8"),
+    );
+    res
+}
+
+/// `GET .../spectra`: JSON, or with `Accept: text/csv` the amplitudes alone as CSV.
 pub async fn spectra(
     state: AppState,
     caller: &Caller,
     kind: JobKind,
     id: String,
     q: Option<String>,
+    headers: &HeaderMap,
 ) -> ApiResult<Response> {
     let query = parse_spectra_query(q.as_deref())?;
     let job = succeeded(&state, caller, kind, &id).await?;
@@ -269,6 +292,9 @@ pub async fn spectra(
         if df > 0.0 {
             amplitude.truncate(((f / df).floor() as usize + 1).min(amplitude.len()));
         }
+    }
+    if wants_csv(headers) {
+        return Ok(spectrum_csv(df, &amplitude));
     }
     let f_top = df * amplitude.len().saturating_sub(1) as f64;
     let harmonics = query.harmonics.unwrap_or(analysis.options.harmonics).max(1);

@@ -144,6 +144,41 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
         "{sp}"
     );
 
+    // the same spectrum as CSV: a header, then one `frequency_hz,amplitude` row per bin,
+    // the JSON's values (both print the stored f32 values as f64)
+    let r = c
+        .get(s.url(&format!("/v1/simulations/{id}/spectra?fmax=5000")))
+        .header("Accept", "text/csv")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.headers()["content-type"], "text/csv; charset=utf-8");
+    let text = r.text().await.unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("frequency_hz,amplitude"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let (f, a) = l.split_once(',').unwrap();
+            (f.parse().unwrap(), a.parse().unwrap())
+        })
+        .collect();
+    let amp = sp["amplitude"].as_array().unwrap();
+    let df = sp["df"].as_f64().unwrap();
+    assert_eq!(rows.len(), amp.len());
+    for (k, (f, a)) in rows.iter().enumerate() {
+        assert!(
+            (f - k as f64 * df).abs() <= 1e-9 * f.max(1.0),
+            "row {k}: {f} Hz"
+        );
+        // serde_json's default float parser may land one ulp off the printed value
+        let j = amp[k].as_f64().unwrap();
+        assert!(
+            (a - j).abs() <= 2.0 * f64::EPSILON * j.abs(),
+            "row {k}: {a} vs {j}"
+        );
+    }
+
     // markers: as many harmonics of each line as asked for (default: the analysis' own 3),
     // every one below fmax = 20 kHz here (the largest line, BPFI, is ~1.5 kHz)
     let count_per_line = |sp: &serde_json::Value| {
