@@ -364,7 +364,8 @@ pub(super) fn markers(
                     frequency: fh,
                 });
             }
-            if name != "bpfi" || !(theory.shaft_hz > 0.0) {
+            // (a NaN shaft frequency has no sidebands either)
+            if name != "bpfi" || theory.shaft_hz.is_nan() || theory.shaft_hz <= 0.0 {
                 continue;
             }
             for side in [-1, 1] {

@@ -65,7 +65,9 @@ fn rows(entries: &[LegendEntry], width: f64, font: f64) -> Vec<Vec<&LegendEntry>
             out.push(vec![]);
             x = 0.0;
         }
-        out.last_mut().map(|r| r.push(e));
+        if let Some(r) = out.last_mut() {
+            r.push(e);
+        }
         x += w;
     }
     out
