@@ -124,6 +124,14 @@ def download(page, selector):
     return dl.suggested_filename, Path(dl.path()).read_bytes()
 
 
+def with_summary(route):
+    """Answer a result request with the service's answer plus a verdict summary."""
+    response = route.fetch()
+    result = response.json()
+    result["analysis"]["verdict"]["summary"] = "Inner race fault (test sentence)."
+    route.fulfill(response=response, json=result)
+
+
 def no_sideways_scroll(page, width, what):
     got = page.evaluate("document.documentElement.scrollWidth")
     assert got <= width, f"{what} is {got} px wide in a {width} px window"
@@ -313,6 +321,11 @@ def run(page, base, shots, console_errors):
         # per-line flags carry it: the BPFI lines count for the named fault, BPFO lines not
         expect(page.locator('#ids-raw tr[data-line="BPFI"][data-in-verdict="true"]').first).to_be_visible()
         expect(page.locator('#ids-raw tr[data-line="BPFO"][data-in-verdict="true"]')).to_have_count(0)
+        # a verdict's summary sentence (issue 35 adds it to the report) heads the result
+        page.route("**/v1/analyses/*/result", with_summary)
+        page.reload()
+        expect(page.locator("#verdict-summary")).to_have_text("Inner race fault (test sentence).")
+        page.unroute("**/v1/analyses/*/result")
         # the detected BPFI peak is marked on the spectrum with its error, and no label overlaps
         expect(page.locator("#spectrum-chart circle.peak.detected").first).to_be_attached()
         expect(page.locator("#spectrum-chart text.peak-label").first).to_contain_text(re.compile(r"^[+-][0-9.]+ %$"))
@@ -353,6 +366,8 @@ def run(page, base, shots, console_errors):
         expect(page.locator("#compare-chart path.series")).to_have_count(2)
         expect(page.locator("#compare-table thead th")).to_have_count(3)
         expect(page.locator("#compare-table")).to_contain_text("compound, 40 ms")
+        # the 40 ms run ends inside the speed ramp: its lines differ, so none are drawn
+        expect(page.locator("#compare-lines")).to_contain_text("differ")
         got = page.evaluate(OVERLAPS, "#compare-chart")
         assert not got["bad"], f"overlapping labels in the comparison: {got['bad']}"
         if shots:

@@ -685,15 +685,19 @@ async function compareView(gen, keys) {
   const readout = h("span", { class: "readout" });
   const series = spectra.map((r, k) => ({ name: withSpectra[k].name, color: SERIES[k % SERIES.length],
     x: r.body.amplitude.slice(1).map((_, i) => (i + 1) * r.body.df), y: r.body.amplitude.slice(1) }));
-  // the first job's theoretical lines: the others share them when they share a bearing and speed
-  const markers = spectra.length ? spectra[0].body.markers.map((m) => ({ x: m.frequency, name: m.name, harmonic: m.harmonic, sideband: m.sideband || 0 })) : [];
+  // theoretical lines only when every job has the same ones (same bearing and speed, to 0.5 %)
+  const bpfo = withSpectra.map((j) => j.result.analysis.theory.bpfo);
+  const shared = bpfo.length > 0 && bpfo.every((f) => Math.abs(f - bpfo[0]) <= 0.005 * bpfo[0]);
+  const markers = shared ? spectra[0].body.markers.map((m) => ({ x: m.frequency, name: m.name, harmonic: m.harmonic, sideband: m.sideband || 0 })) : [];
   const names = jobs.map((j) => j.name).join(" vs ");
   const title = `Raw envelope spectra: ${names}`;
   const rows = jobs.map((j) => summaryRows(j.result));
   const labels = [...new Set(rows.flat().map((r) => r.label))];
   view.replaceChildren(h("h2", {}, `Compare ${jobs.length} jobs`),
     h("div", { class: "plot" }, h("h3", {}, title, " ", chartDownloads(chart, "compare-spectra", title)), chart, h("p", { class: "readout-line" }, readout),
-      legend(series.map((s) => ({ text: s.name, color: s.color })).concat(spectra.length ? [{ text: `theoretical lines of ${withSpectra[0].name}`, color: PALETTE.bpfo, dashed: "4 3" }] : []))),
+      legend(series.map((s) => ({ text: s.name, color: s.color }))),
+      shared ? spectrumLegend(markers, false)
+        : h("p", { class: "muted", id: "compare-lines" }, `No theoretical lines: the jobs' fault frequencies differ (BPFO ${bpfo.map(fmt).join(", ")} Hz); each job's page shows its own.`)),
     h("div", { class: "plot" }, h("h3", {}, "Summaries side by side"),
       scrollBox(h("table", { id: "compare-table" },
         h("thead", {}, h("tr", {}, h("th", {}, "quantity"), jobs.map((j) => h("th", {}, h("a", { href: `#/${j.kind}/${j.id}` }, j.name))))),
