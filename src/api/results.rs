@@ -11,10 +11,10 @@ use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::jobs::record::{AnalysisJobRecord, AnalysisRecord, SimulationRecord};
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, Job, JobKind};
-use axum::http::{header, HeaderValue};
+use axum::http::{header, HeaderMap, HeaderValue};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
-use bearing_core::signal::analysis::MAX_LEVELS;
+use bearing_core::signal::analysis::{AnalysisReport, MAX_LEVELS};
 use bearing_core::signal::frequencies::CharacteristicFrequencies;
 use bearing_core::signal::Identification;
 use serde::de::DeserializeOwned;
@@ -220,38 +220,53 @@ pub struct Marker {
     /// `bpfo`, `bpfi`, `ftf`, `bsf`, `bsf2` or `shaft`.
     pub name: &'static str,
     pub harmonic: usize,
+    /// 0 for the line itself; -1 or +1 for a shaft-rate sideband of it (BPFI's harmonics
+    /// only: an inner-race defect turns with the shaft through the load zone).
+    pub sideband: i32,
     /// Hz.
     pub frequency: f64,
 }
 
-/// `GET .../spectra`.
+/// The request asks for CSV (`Accept: text/csv`).
+pub(super) fn wants_csv(headers: &HeaderMap) -> bool {
+    headers
+        .get(header::ACCEPT)
+        .and_then(|v| v.to_str().ok())
+        .is_some_and(|a| a.contains("text/csv"))
+}
+
+/// A spectrum as CSV: `frequency_hz,amplitude`, one row per bin from 0 Hz.
+fn spectrum_csv(df: f64, amplitude: &[f64]) -> Response {
+    let mut out = String::from("frequency_hz,amplitude\n");
+    for (k, a) in amplitude.iter().enumerate() {
+        out.push_str(&format!("{},{a}\n", k as f64 * df));
+    }
+    let mut res = out.into_response();
+    res.headers_mut().insert(
+        header::CONTENT_TYPE,
+        HeaderValue::from_static("text/csv; charset=utf-8"),
+    );
+    res
+}
+
+/// `GET .../spectra`: JSON, or with `Accept: text/csv` the amplitudes alone as CSV.
 pub async fn spectra(
     state: AppState,
     caller: &Caller,
     kind: JobKind,
     id: String,
     q: Option<String>,
+    headers: &HeaderMap,
 ) -> ApiResult<Response> {
     let query = parse_spectra_query(q.as_deref())?;
     let job = succeeded(&state, caller, kind, &id).await?;
     let analysis = stored_analysis(&job)?;
-    let (level, peaks): (Option<usize>, Vec<Identification>) = match query.choice {
-        SpectrumChoice::Raw => (None, analysis.report.raw.clone()),
-        SpectrumChoice::BestComponent => (
-            Some(analysis.report.best_component.level),
-            analysis.report.best_component.identifications.clone(),
-        ),
-        SpectrumChoice::Level(l) => {
-            let r = &analysis.report;
-            let peaks = [&r.best_component, &r.runner_up_component]
-                .into_iter()
-                .chain(r.all_levels.iter())
-                .find(|c| c.level == l)
-                .map(|c| c.identifications.clone())
-                .unwrap_or_default();
-            (Some(l), peaks)
-        }
+    let level = match query.choice {
+        SpectrumChoice::Raw => None,
+        SpectrumChoice::BestComponent => Some(analysis.report.best_component.level),
+        SpectrumChoice::Level(l) => Some(l),
     };
+    let peaks = identifications_of(&analysis.report, level);
     let which = query.choice.kind();
     // a spectrum is up to n/2 bins, held as f32 and then as JSON: a few at a time
     let _permit = state.large_transfer(caller.share_key()).await?;
@@ -278,6 +293,9 @@ pub async fn spectra(
             amplitude.truncate(((f / df).floor() as usize + 1).min(amplitude.len()));
         }
     }
+    if wants_csv(headers) {
+        return Ok(spectrum_csv(df, &amplitude));
+    }
     let f_top = df * amplitude.len().saturating_sub(1) as f64;
     let harmonics = query.harmonics.unwrap_or(analysis.options.harmonics).max(1);
     let markers = markers(&analysis.report.theory, harmonics, f_top);
@@ -298,9 +316,30 @@ pub async fn spectra(
     .into_response())
 }
 
+/// The lines identified in the raw envelope spectrum (`None`) or in a DTCWT level's.
+pub(super) fn identifications_of(
+    report: &AnalysisReport,
+    level: Option<usize>,
+) -> Vec<Identification> {
+    match level {
+        None => report.raw.clone(),
+        Some(l) => [&report.best_component, &report.runner_up_component]
+            .into_iter()
+            .chain(report.all_levels.iter())
+            .find(|c| c.level == l)
+            .map(|c| c.identifications.clone())
+            .unwrap_or_default(),
+    }
+}
+
 /// Theoretical characteristic frequencies and their harmonics up to `f_top` (Hz), named
-/// as the stored `theory` object names them.
-fn markers(theory: &CharacteristicFrequencies, harmonics: usize, f_top: f64) -> Vec<Marker> {
+/// as the stored `theory` object names them, and the shaft sidebands of BPFI's harmonics.
+/// The page and the SVG endpoint both draw this list.
+pub(super) fn markers(
+    theory: &CharacteristicFrequencies,
+    harmonics: usize,
+    f_top: f64,
+) -> Vec<Marker> {
     let lines = [
         ("bpfi", theory.bpfi),
         ("bpfo", theory.bpfo),
@@ -321,8 +360,24 @@ fn markers(theory: &CharacteristicFrequencies, harmonics: usize, f_top: f64) -> 
                 out.push(Marker {
                     name,
                     harmonic: h,
+                    sideband: 0,
                     frequency: fh,
                 });
+            }
+            // (a NaN shaft frequency has no sidebands either)
+            if name != "bpfi" || theory.shaft_hz.is_nan() || theory.shaft_hz <= 0.0 {
+                continue;
+            }
+            for side in [-1, 1] {
+                let fs = fh + side as f64 * theory.shaft_hz;
+                if fs > 0.0 && fs <= f_top {
+                    out.push(Marker {
+                        name,
+                        harmonic: h,
+                        sideband: side,
+                        frequency: fs,
+                    });
+                }
             }
         }
     }
@@ -351,5 +406,13 @@ mod tests {
             .collect();
         assert_eq!(bpfo, vec![100.0, 200.0, 300.0, 400.0]);
         assert_eq!(m.iter().filter(|m| m.name == "ftf").count(), 5);
+        // BPFI 150, 300 Hz with sidebands 10 Hz either side; 450 Hz is past the top
+        let sidebands: Vec<f64> = m
+            .iter()
+            .filter(|m| m.sideband != 0)
+            .map(|m| m.frequency)
+            .collect();
+        assert_eq!(sidebands, vec![140.0, 160.0, 290.0, 310.0]);
+        assert!(m.iter().all(|m| m.sideband == 0 || m.name == "bpfi"));
     }
 }

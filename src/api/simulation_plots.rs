@@ -7,13 +7,15 @@ use super::job_resource::succeeded;
 use super::openapi::params::{JobId, PlotName, SimulationPlotQuery};
 use super::openapi::responses::{BadRequest, Conflict, NotFound};
 use super::problem::{ApiResult, Problem};
-use super::results::{record, stored_analysis};
+use super::results::{identifications_of, markers, record, stored_analysis};
 use super::simulations::{load_channel, sample_window, StoredChannel};
 use super::state::AppState;
 use super::studies::svg_response;
 use crate::jobs::artifacts::spectrum_artifact_name;
 use crate::jobs::record::SimulationRecord;
-use crate::plots::{kurtosis_svg, signal_svg, spectrum_svg, Marker, SignalTrace, SpectrumPanel};
+use crate::plots::{
+    kurtosis_svg, signal_svg, spectrum_svg, Marker, Peak, SignalTrace, SpectrumPanel,
+};
 use crate::store::blob::decode_f32le;
 use crate::store::{ArtifactMeta, JobKind};
 use axum::extract::{Path, RawQuery, State};
@@ -29,9 +31,10 @@ const DEFAULT_WINDOW: f64 = 0.1;
 ///
 /// `signal.svg`: a window of a channel (default the analysed accelerometer channel over
 /// the first 0.1 s of the analysis window), drawn as min/max per pixel column.
-/// `spectrum.svg`: the raw envelope spectrum (or `level`'s) with BPFO, BPFI, BSF, 2xBSF
-/// and FTF markers at their first three harmonics. `kurtosis.svg`: each DTCWT level's
-/// kurtosis, the chosen level highlighted, and the raw signal's.
+/// `spectrum.svg`: the raw envelope spectrum (or `level`'s) with BPFO, BPFI, BSF, 2xBSF,
+/// FTF and shaft markers at their first three harmonics, BPFI's shaft sidebands and the
+/// identified peaks with their error, drawn as the lab page draws it. `kurtosis.svg`: each
+/// DTCWT level's kurtosis, the chosen level highlighted, and the raw signal's.
 #[utoipa::path(
     get,
     path = "/v1/simulations/{id}/plots/{name}",
@@ -119,30 +122,31 @@ pub async fn plot(
                 return Err(Problem::internal(format!("artifact {} is not a spectrum", a.name)));
             };
             let t = &report.theory;
-            let fmax = q.f64("fmax")?.unwrap_or(3.5 * t.bpfi);
+            // the page's default range
+            let fmax = q.f64("fmax")?.unwrap_or((3.5 * t.bpfi.max(t.bpfo)).round());
             if !(fmax.is_finite() && fmax > 0.0) {
                 return Err(Problem::bad_request("query parameter 'fmax' must be > 0 Hz"));
             }
-            let mut markers = Vec::new();
-            for (family, (n, f)) in [
-                ("BPFO", t.bpfo),
-                ("BPFI", t.bpfi),
-                ("BSF", t.bsf),
-                ("2xBSF", t.bsf2),
-                ("FTF", t.ftf),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                for h in 1..=3 {
-                    let label = if h == 1 { n.to_string() } else { format!("{h}x{n}") };
-                    markers.push(Marker {
-                        label,
-                        hz: h as f64 * f,
-                        family,
-                    });
-                }
-            }
+            let markers = markers(t, 3, fmax)
+                .into_iter()
+                .map(|m| Marker {
+                    name: m.name,
+                    harmonic: m.harmonic,
+                    sideband: m.sideband,
+                    hz: m.frequency,
+                })
+                .collect();
+            let peaks = identifications_of(report, level)
+                .into_iter()
+                .filter_map(|p| {
+                    Some(Peak {
+                        name: line_key(&p.name)?,
+                        hz: p.identified_hz,
+                        error_pct: p.error_pct,
+                        detected: p.detected,
+                    })
+                })
+                .collect();
             let which = level
                 .map(|l| format!("level {l} envelope spectrum"))
                 .unwrap_or_else(|| "raw envelope spectrum".into());
@@ -152,6 +156,8 @@ pub async fn plot(
                     df,
                     amplitude: decode_f32le(&a.data),
                     markers,
+                    peaks,
+                    y_label: "envelope amplitude (m/s²)".into(),
                 },
                 fmax,
             )
@@ -165,4 +171,16 @@ pub async fn plot(
     }
     .map_err(|e| Problem::internal(e.to_string()))?;
     Ok(svg_response(svg))
+}
+
+/// The API name of a line as identifications name it (`2xBSF` -> `bsf2`).
+fn line_key(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "BPFO" => "bpfo",
+        "BPFI" => "bpfi",
+        "BSF" => "bsf",
+        "2xBSF" => "bsf2",
+        "FTF" => "ftf",
+        _ => return None,
+    })
 }

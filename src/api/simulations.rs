@@ -395,7 +395,10 @@ pub async fn result(
     operation_id = "getSimulationSpectra",
     params(JobId, SpectraQuery),
     responses(
-        (status = 200, description = "The spectrum.", body = SpectrumView),
+        (status = 200, description = "The spectrum; with `Accept: text/csv`, its bins as `frequency_hz,amplitude` rows.", content(
+            (SpectrumView = "application/json"),
+            (String = "text/csv")
+        )),
         (status = 400, response = BadRequest),
         (status = 404, response = NotFound),
         (status = 409, response = Conflict),
@@ -407,6 +410,7 @@ pub async fn spectra(
     caller: Caller,
     Path(id): Path<String>,
     RawQuery(q): RawQuery,
+    headers: HeaderMap,
 ) -> ApiResult<Response> {
-    results::spectra(s, &caller, KIND, id, q).await
+    results::spectra(s, &caller, KIND, id, q, &headers).await
 }

@@ -2,7 +2,8 @@
 //! and the raw signal's kurtosis as a reference line.
 
 use super::error::PlotError;
-use super::style::{draw_legend, BLUE, RED};
+use super::labels::tick_label;
+use super::style::{draw_legend_below, legend_height, Key, LegendEntry, BLUE, GRID, INK, RED};
 use plotters::prelude::*;
 
 /// 800 x 400 px. `levels[k]` is level `k + 1`; `best` is 1-based.
@@ -20,11 +21,33 @@ pub fn kurtosis_svg(
         .fold(3.0_f64, f64::max)
         * 1.15;
     let n = levels.len().max(1);
+    let (plain, chosen) = (BLUE, RED);
+    let mut legend = vec![
+        LegendEntry {
+            text: "component kurtosis".into(),
+            color: plain,
+            key: Key::Bar,
+        },
+        LegendEntry {
+            text: format!("level {best}: the largest, analysed"),
+            color: chosen,
+            key: Key::Bar,
+        },
+    ];
+    if raw.is_finite() {
+        legend.push(LegendEntry {
+            text: format!("raw signal kurtosis ({})", tick_label(raw)),
+            color: INK,
+            key: Key::Line,
+        });
+    }
+    let lh = legend_height(&legend, 800, 13);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (800, 400)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (800, 400 + lh)).into_drawing_area();
         root.fill(&WHITE).map_err(PlotError::from_display)?;
-        let mut chart = ChartBuilder::on(&root)
+        let (top_area, below) = root.split_vertically(400);
+        let mut chart = ChartBuilder::on(&top_area)
             .caption(title, ("sans-serif", 16))
             .margin(12)
             .x_label_area_size(42)
@@ -33,6 +56,8 @@ pub fn kurtosis_svg(
             .map_err(PlotError::from_display)?;
         chart
             .configure_mesh()
+            .bold_line_style(GRID)
+            .light_line_style(TRANSPARENT)
             .x_desc("DTCWT level (1 = highest frequencies)")
             .y_desc("kurtosis (-)")
             .x_labels(n + 1)
@@ -43,10 +68,11 @@ pub fn kurtosis_svg(
                     String::new()
                 }
             })
+            .y_label_formatter(&|v| tick_label(*v))
             .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 13).into_font().color(&INK))
             .draw()
             .map_err(PlotError::from_display)?;
-        let (plain, chosen) = (BLUE, RED);
         chart
             .draw_series(
                 levels
@@ -59,20 +85,16 @@ pub fn kurtosis_svg(
                         Rectangle::new([(x - 0.35, 0.0), (x + 0.35, *k)], c.filled())
                     }),
             )
-            .map_err(PlotError::from_display)?
-            .label(format!("component kurtosis (level {best} chosen, red)"))
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], plain.filled()));
+            .map_err(PlotError::from_display)?;
         if raw.is_finite() {
             chart
                 .draw_series(LineSeries::new(
                     [(0.5, raw), (n as f64 + 0.5, raw)],
-                    BLACK.stroke_width(1),
+                    INK.stroke_width(1),
                 ))
-                .map_err(PlotError::from_display)?
-                .label(format!("raw signal kurtosis ({raw:.2})"))
-                .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK));
+                .map_err(PlotError::from_display)?;
         }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperRight, 13)?;
+        draw_legend_below(&below, &legend, 13)?;
         root.present().map_err(PlotError::from_display)?;
     }
     Ok(svg)

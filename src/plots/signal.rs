@@ -2,7 +2,8 @@
 //! any decimation.
 
 use super::error::PlotError;
-use super::style::BLUE;
+use super::labels::tick_label;
+use super::style::{BLUE, GRID, INK};
 use plotters::prelude::*;
 
 /// Samples `x[k]` at `start_time + k / sample_rate`.
@@ -55,10 +56,14 @@ pub fn signal_svg(trace: &SignalTrace<'_>) -> Result<String, PlotError> {
             .map_err(PlotError::from_display)?;
         chart
             .configure_mesh()
+            .bold_line_style(GRID)
+            .light_line_style(TRANSPARENT)
             .x_desc("time (s)")
             .y_desc(&trace.y_label)
-            .y_label_formatter(&|v| format!("{v:.2e}"))
+            .x_label_formatter(&|v| tick_label(*v))
+            .y_label_formatter(&|v| tick_label(*v))
             .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 13).into_font().color(&INK))
             .draw()
             .map_err(PlotError::from_display)?;
         chart

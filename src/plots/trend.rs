@@ -2,7 +2,8 @@
 //! the left axis, their error in % on the right axis, against one operating factor.
 
 use super::error::PlotError;
-use super::style::{draw_legend, SERIES_COLORS};
+use super::labels::tick_label;
+use super::style::{draw_legend_below, legend_height, Key, LegendEntry, GRID, INK, SERIES_COLORS};
 use plotters::prelude::*;
 
 /// One curve of a trend chart.
@@ -52,11 +53,28 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
             .flat_map(|s| s.points.iter().map(|p| p.1)),
         true,
     );
+    // the legend goes under the chart, never over its data
+    let legend: Vec<LegendEntry> = series
+        .iter()
+        .filter(finite)
+        .enumerate()
+        .map(|(i, s)| LegendEntry {
+            text: if s.on_error_axis {
+                format!("{} (right axis)", s.label)
+            } else {
+                s.label.clone()
+            },
+            color: SERIES_COLORS[i % SERIES_COLORS.len()],
+            key: Key::Line,
+        })
+        .collect();
+    let lh = legend_height(&legend, 800, 13);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (800, 500)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (800, 500 + lh)).into_drawing_area();
         root.fill(&WHITE).map_err(PlotError::from_display)?;
-        let mut chart = ChartBuilder::on(&root)
+        let (top_area, below) = root.split_vertically(500);
+        let mut chart = ChartBuilder::on(&top_area)
             .caption(title, ("sans-serif", 18))
             .margin(12)
             .x_label_area_size(45)
@@ -67,15 +85,22 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
             .set_secondary_coord(x, right);
         chart
             .configure_mesh()
+            .bold_line_style(GRID)
+            .light_line_style(TRANSPARENT)
             .x_desc(x_label)
             .y_desc("frequency (Hz)")
+            .x_label_formatter(&|v| tick_label(*v))
+            .y_label_formatter(&|v| tick_label(*v))
             .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 13).into_font().color(&INK))
             .draw()
             .map_err(PlotError::from_display)?;
         chart
             .configure_secondary_axes()
             .y_desc("error against eq. 37 (%)")
+            .y_label_formatter(&|v| tick_label(*v))
             .label_style(("sans-serif", 13))
+            .axis_desc_style(("sans-serif", 13).into_font().color(&INK))
             .draw()
             .map_err(PlotError::from_display)?;
         for (i, s) in series.iter().filter(finite).enumerate() {
@@ -91,18 +116,11 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
             } else {
                 color.stroke_width(2)
             };
-            let label = if s.on_error_axis {
-                format!("{} (right axis)", s.label)
-            } else {
-                s.label.clone()
-            };
             let marker = pts.clone();
             if s.on_error_axis {
                 chart
                     .draw_secondary_series(LineSeries::new(pts, style))
-                    .map_err(PlotError::from_display)?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], style));
+                    .map_err(PlotError::from_display)?;
                 chart
                     .draw_secondary_series(
                         marker
@@ -113,9 +131,7 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
             } else {
                 chart
                     .draw_series(LineSeries::new(pts, style))
-                    .map_err(PlotError::from_display)?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], style));
+                    .map_err(PlotError::from_display)?;
                 chart
                     .draw_series(
                         marker
@@ -125,7 +141,7 @@ pub fn trend_svg(title: &str, x_label: &str, series: &[TrendSeries]) -> Result<S
                     .map_err(PlotError::from_display)?;
             }
         }
-        draw_legend(&mut chart, SeriesLabelPosition::UpperLeft, 13)?;
+        draw_legend_below(&below, &legend, 13)?;
         root.present().map_err(PlotError::from_display)?;
     }
     Ok(svg)

@@ -148,19 +148,15 @@ fn spectra_grid(
             continue;
         };
         let mut markers = Vec::new();
-        for (family, line) in [FaultLine::Bpfo, FaultLine::Bpfi].into_iter().enumerate() {
+        for (name, line) in [("bpfo", FaultLine::Bpfo), ("bpfi", FaultLine::Bpfi)] {
             let f = p.line(line).theory_hz;
             max_hz = max_hz.max(2.3 * f);
             for h in 1..=2 {
-                let label = if h == 1 {
-                    line.name().to_string()
-                } else {
-                    format!("{h}x{}", line.name())
-                };
                 markers.push(Marker {
-                    label,
+                    name,
+                    harmonic: h,
+                    sideband: 0,
                     hz: h as f64 * f,
-                    family,
                 });
             }
         }
@@ -188,6 +184,8 @@ fn spectra_grid(
             df: s.df,
             amplitude: s.amplitude,
             markers,
+            peaks: vec![],
+            y_label: "envelope amplitude (m/s²)".into(),
         });
     }
     if panels.is_empty() {

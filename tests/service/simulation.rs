@@ -144,19 +144,59 @@ async fn short_scene_runs_to_success_with_result_signals_and_spectra() {
         "{sp}"
     );
 
+    // the same spectrum as CSV: a header, then one `frequency_hz,amplitude` row per bin,
+    // the JSON's values (both print the stored f32 values as f64)
+    let r = c
+        .get(s.url(&format!("/v1/simulations/{id}/spectra?fmax=5000")))
+        .header("Accept", "text/csv")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status(), 200);
+    assert_eq!(r.headers()["content-type"], "text/csv; charset=utf-8");
+    let text = r.text().await.unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("frequency_hz,amplitude"));
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let (f, a) = l.split_once(',').unwrap();
+            (f.parse().unwrap(), a.parse().unwrap())
+        })
+        .collect();
+    let amp = sp["amplitude"].as_array().unwrap();
+    let df = sp["df"].as_f64().unwrap();
+    assert_eq!(rows.len(), amp.len());
+    for (k, (f, a)) in rows.iter().enumerate() {
+        assert!(
+            (f - k as f64 * df).abs() <= 1e-9 * f.max(1.0),
+            "row {k}: {f} Hz"
+        );
+        // serde_json's default float parser may land one ulp off the printed value
+        let j = amp[k].as_f64().unwrap();
+        assert!(
+            (a - j).abs() <= 2.0 * f64::EPSILON * j.abs(),
+            "row {k}: {a} vs {j}"
+        );
+    }
+
     // markers: as many harmonics of each line as asked for (default: the analysis' own 3),
     // every one below fmax = 20 kHz here (the largest line, BPFI, is ~1.5 kHz)
     let count_per_line = |sp: &serde_json::Value| {
         let mut n = std::collections::BTreeMap::<String, u64>::new();
         for m in sp["markers"].as_array().unwrap() {
-            *n.entry(m["name"].as_str().unwrap().to_string())
-                .or_default() += 1;
+            // a shaft sideband (BPFI's only) sits one shaft frequency off its harmonic
+            let side = m["sideband"].as_i64().unwrap();
+            let shaft = analysis["theory"]["shaft_hz"].as_f64().unwrap();
+            if side == 0 {
+                *n.entry(m["name"].as_str().unwrap().to_string())
+                    .or_default() += 1;
+            } else {
+                assert!(m["name"] == "bpfi" && side.abs() == 1, "{m}");
+            }
             // harmonic h of its line (to rounding: both sides went through JSON)
             let line = m["name"].as_str().unwrap();
-            let f1 = analysis["theory"][line]
-                .as_f64()
-                .unwrap_or_else(|| analysis["theory"]["shaft_hz"].as_f64().unwrap());
-            let want = m["harmonic"].as_f64().unwrap() * f1;
+            let f1 = analysis["theory"][line].as_f64().unwrap_or(shaft);
+            let want = m["harmonic"].as_f64().unwrap() * f1 + side as f64 * shaft;
             let got = m["frequency"].as_f64().unwrap();
             assert!((got - want).abs() <= 1e-12 * want, "{m}: {got} vs {want}");
         }
