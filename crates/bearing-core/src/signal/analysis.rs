@@ -12,6 +12,7 @@ use super::frequencies::{
     characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry,
 };
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
+use super::impulsiveness::{impulsiveness, Impulsiveness};
 use super::kurtosis::kurtosis;
 use super::order_tracking_report::OrderTracking;
 use super::spectrum::EnvelopeSpectrumPlan;
@@ -321,6 +322,7 @@ pub fn analyze_with(
     let pyramid = transform.forward(x, opts.levels)?;
     let mut level_kurtosis: Vec<f64> = Vec::with_capacity(opts.levels);
     let mut level_spectra: Vec<Option<Spectrum>> = vec![None; opts.levels];
+    let mut level_impulsiveness: Vec<Option<Impulsiveness>> = vec![None; opts.levels];
     let keep_all = spectra == LevelSpectra::All || opts.report_all_levels;
     let (mut plan, raw_spectrum) = if keep_all {
         // One level's full-length component at a time: its kurtosis and envelope spectrum
@@ -333,6 +335,12 @@ pub fn analyze_with(
             let component = transform.level_component(&pyramid, l);
             level_kurtosis.push(kurtosis(&component));
             level_spectra[l - 1] = Some(plan.compute(&component, fs, None));
+        }
+        // the two the verdict reads: their impulsiveness (a component again, one at a time)
+        for i in top_two(&level_kurtosis) {
+            check()?;
+            let component = transform.level_component(&pyramid, i + 1);
+            level_impulsiveness[i] = Some(impulsiveness(&component, fs, None));
         }
         drop(pyramid);
         (plan, raw_spectrum)
@@ -359,6 +367,7 @@ pub fn analyze_with(
         let raw_spectrum = plan.compute(x, fs, opts.band);
         for (i, component) in kept {
             check()?;
+            level_impulsiveness[i] = Some(impulsiveness(&component, fs, None));
             level_spectra[i] = Some(plan.compute(&component, fs, None));
         }
         (plan, raw_spectrum)
@@ -423,6 +432,7 @@ pub fn analyze_with(
         label: format!("level {}", c.level),
         band_hz: Some(c.band_hz),
         spectrum: level_spectrum(c.level - 1),
+        impulsiveness: level_impulsiveness[c.level - 1],
     };
     // The verdict reads the raw spectrum and the bands of the band-selection method asked
     // for: the kurtogram's band and its runner-up when `kurtogram_levels` is given, else the
@@ -431,6 +441,7 @@ pub fn analyze_with(
         label: "raw".into(),
         band_hz: opts.band,
         spectrum: &raw_spectrum,
+        impulsiveness: Some(impulsiveness(x, fs, opts.band)),
     }];
     if !kurtogram_reports.is_empty() {
         for (i, (k, s)) in kurtogram_reports.iter().zip(&kurtogram_spectra).enumerate() {
@@ -442,6 +453,7 @@ pub fn analyze_with(
                 },
                 band_hz: Some(k.band_hz),
                 spectrum: s,
+                impulsiveness: Some(impulsiveness(x, fs, Some(k.band_hz))),
             });
         }
     } else {
@@ -506,6 +518,15 @@ pub fn analyze_with(
         raw_spectrum,
         level_spectra,
     })
+}
+
+/// Indices of the two largest kurtoses, largest first, ties to the lower level (the order
+/// the report uses); one index for a single level.
+fn top_two(level_kurtosis: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..level_kurtosis.len()).collect();
+    order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
+    order.truncate(2);
+    order
 }
 
 /// Sample range `[i0, i1)` of the analysis window in a signal of `n` samples at `fs` Hz,

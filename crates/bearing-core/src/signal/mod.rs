@@ -11,6 +11,7 @@
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`verdict`]: the fault types the spectra indicate, with the evidence;
+//! - [`impulsiveness`]: whether a band's signal is impulsive (a defect strikes);
 //! - [`summary`]: the verdict in one plain sentence;
 //! - [`order_tracking`]: analysis at varying speed, resampled to constant shaft angle;
 //! - [`io`]: reading signals from raw f32le, CSV or JSON;
@@ -23,6 +24,7 @@ pub mod analysis;
 pub mod frequencies;
 pub mod hilbert;
 pub mod identify;
+pub mod impulsiveness;
 pub mod kurtogram;
 pub mod kurtosis;
 pub mod order_tracking;

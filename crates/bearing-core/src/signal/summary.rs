@@ -88,12 +88,24 @@ pub fn summary(v: &Verdict) -> String {
             .iter()
             .min_by(|a, b| a.p_value.total_cmp(&b.p_value));
         return match closest {
-            Some(e) => format!(
-                "No fault indicated (closest: {}, p = {} >= {rate}: {})",
-                fault_name(e.fault),
-                format_p(e.p_value),
-                lines_clause(e)
-            ),
+            Some(e) => match e.impulsiveness {
+                Some(i) if e.p_value < v.false_alarm_rate && !i.impulsive(v.false_alarm_rate) => {
+                    format!(
+                        "No fault indicated (closest: {}, p = {} < {rate}, but on a signal that is not impulsive: kurtosis {:.1}, p = {} >= {rate}; a defect strikes, a smooth line is the bearing's varying compliance: {})",
+                        fault_name(e.fault),
+                        format_p(e.p_value),
+                        i.kurtosis,
+                        format_p(i.p_value),
+                        lines_clause(e)
+                    )
+                }
+                _ => format!(
+                    "No fault indicated (closest: {}, p = {} >= {rate}: {})",
+                    fault_name(e.fault),
+                    format_p(e.p_value),
+                    lines_clause(e)
+                ),
+            },
             None => format!("No fault indicated (rate {rate})"),
         };
     }
