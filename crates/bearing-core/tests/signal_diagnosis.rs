@@ -32,6 +32,21 @@ struct Diagnosis {
 fn diagnose(scene: &Scene) -> Diagnosis {
     let run = simulate(&scene.validated().unwrap(), RunControl::default()).unwrap();
     let (_, _, out) = diagnose_run(&run, scene).unwrap();
+    let r = &out.report;
+    // one notion of "found": a line shown as found either counts toward the verdict or
+    // says why not
+    for id in r
+        .raw
+        .iter()
+        .chain(&r.best_component.identifications)
+        .chain(&r.runner_up_component.identifications)
+    {
+        assert!(
+            !id.detected || id.in_verdict || id.not_counted.is_some(),
+            "{}: {id:?}",
+            scene.name
+        );
+    }
     let verdict = out.report.verdict.unwrap();
     eprintln!("{}: {}", scene.name, verdict.summary);
     let mut faults = verdict.faults.clone();

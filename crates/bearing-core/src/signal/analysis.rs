@@ -16,7 +16,7 @@ use super::impulsiveness::{impulsiveness, Impulsiveness};
 use super::kurtosis::kurtosis;
 use super::order_tracking_report::OrderTracking;
 use super::spectrum::EnvelopeSpectrumPlan;
-use super::summary::summary;
+use super::summary::{format_p, summary};
 use super::verdict::{
     verdict, CandidateSpectrum, FaultType, Verdict, VerdictSettings, DEFAULT_FALSE_ALARM_RATE,
     DEFAULT_VERDICT_HARMONICS,
@@ -479,6 +479,9 @@ pub fn analyze_with(
         for id in ids.iter_mut() {
             id.in_verdict =
                 FaultType::of_line(&id.name).is_some_and(|f| verdict.faults.contains(&f));
+            id.not_counted = (id.detected && !id.in_verdict)
+                .then(|| FaultType::of_line(&id.name).map(|f| not_counted_reason(&verdict, f)))
+                .flatten();
         }
     };
     named(&mut raw);
@@ -518,6 +521,42 @@ pub fn analyze_with(
         raw_spectrum,
         level_spectra,
     })
+}
+
+/// Why a detected line of fault type `f` does not count: the verdict does not name `f`,
+/// and its evidence says why.
+fn not_counted_reason(verdict: &Verdict, f: FaultType) -> String {
+    let name = super::summary::fault_name(f);
+    let rate = format_p(verdict.false_alarm_rate);
+    match verdict.evidence.iter().find(|e| e.fault == f) {
+        Some(e) if e.p_value < verdict.false_alarm_rate => match e.impulsiveness {
+            Some(i) if !i.impulsive(verdict.false_alarm_rate) => format!(
+                "{name} not indicated: its series (p = {} < {rate}, {}) is on a signal that is not impulsive (kurtosis {:.1})",
+                format_p(e.p_value),
+                e.spectrum,
+                i.kurtosis
+            ),
+            _ => format!("{name} not indicated"),
+        },
+        Some(e) => format!(
+            "{name} not indicated: its series ranks p = {} >= {rate} (best in {}){}",
+            format_p(e.p_value),
+            e.spectrum,
+            if e.lines_attributed_to.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", after the lines of {} were attributed to it",
+                    e.lines_attributed_to
+                        .iter()
+                        .map(|a| super::summary::fault_name(*a))
+                        .collect::<Vec<_>>()
+                        .join(" and ")
+                )
+            }
+        ),
+        None => format!("{name} not tested"),
+    }
 }
 
 /// Indices of the two largest kurtoses, largest first, ties to the lower level (the order

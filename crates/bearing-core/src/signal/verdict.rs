@@ -66,6 +66,10 @@ const SPACING_FRACTION: f64 = 0.002;
 /// explains more.
 const EXPLAIN_TOP_LINES: usize = 40;
 
+/// A line's own chance probability at which it counts as found when Fisher's combination
+/// decides the family.
+const FOUND_P: f64 = 0.05;
+
 /// Smallest p-value reported (and the largest score, 300): keeps reports finite JSON.
 const MIN_P: f64 = 1e-300;
 
@@ -141,6 +145,11 @@ pub struct SeriesLine {
     pub prominence_db: Option<f64>,
     /// Chance of a line this high-ranked in this window, `min(1, rank w / B)`, -.
     pub p_value: f64,
+    /// The line counts as found in the family's test: among the `R` strongest lines where
+    /// the top-lines scan was most telling when the scan decided, else its own `p <= 0.05`
+    /// (Fisher's combination). The evidence's harmonics and sidebands found count these.
+    #[serde(default)]
+    pub counted: bool,
 }
 
 /// The evidence for one fault type.
@@ -172,10 +181,10 @@ pub struct FaultEvidence {
     /// Fundamental against theory, %.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_pct: Option<f64>,
-    /// Harmonics with a line of `p <= 0.05`, of `harmonics_searched`.
+    /// Harmonics whose line counts in the test ([`SeriesLine::counted`]), of `harmonics_searched`.
     pub harmonics_found: usize,
     pub harmonics_searched: usize,
-    /// Sidebands with a line of `p <= 0.05`, of `sidebands_searched`.
+    /// Sidebands whose line counts in the test, of `sidebands_searched`.
     pub sidebands_found: usize,
     pub sidebands_searched: usize,
     /// Mean `|f_h / h - f_1| / f_1` over the harmonics found beyond the first, %.
@@ -431,22 +440,26 @@ fn binomial_tail(r: usize, q: f64, x: usize) -> f64 {
 /// probabilities this uses that the lines are found *together* at the top: the four
 /// strongest lines of a spectrum being a family's four harmonics is far less likely than
 /// four unrelated lines each ranking as well.
-fn top_lines_scan(windows: &[(Option<usize>, usize)], bins: f64) -> f64 {
+/// Returns the p-value and the `R` it was smallest at.
+fn top_lines_scan(windows: &[(Option<usize>, usize)], bins: f64) -> (f64, usize) {
     let l = windows.len();
     if l == 0 {
-        return 1.0;
+        return (1.0, 0);
     }
     let covered: usize = windows.iter().map(|w| w.1).sum();
     let q = (covered as f64 / bins).min(1.0);
     let r_max = 2 * l;
     let mut ranks: Vec<usize> = windows.iter().filter_map(|w| w.0).collect();
     ranks.sort_unstable();
-    let mut best = 1.0_f64;
+    let (mut best, mut r_star) = (1.0_f64, 0);
     for r in 1..=r_max {
         let x = ranks.iter().filter(|&&k| k <= r).count();
-        best = best.min(binomial_tail(r, q, x));
+        let p = binomial_tail(r, q, x);
+        if p < best {
+            (best, r_star) = (p, r);
+        }
     }
-    (best * r_max as f64).min(1.0)
+    ((best * r_max as f64).min(1.0), r_star)
 }
 
 /// The series of one fault type in one spectrum.
@@ -510,6 +523,7 @@ fn series(
             rank,
             prominence_db: prom,
             p_value: p,
+            counted: false,
         });
     };
     for h in 1..=n_harmonics as u32 {
@@ -539,7 +553,15 @@ fn series(
     // of the top lines (power when they rank at the top together, short records); the
     // smaller, doubled (Bonferroni), keeps the rate.
     let fisher = chi2_sf_even(-2.0 * log_sum, out.len().max(1));
-    let p_value = (2.0 * fisher.min(top_lines_scan(&windows, lines.chance_bins()))).min(1.0);
+    let (scan, r_star) = top_lines_scan(&windows, lines.chance_bins());
+    let p_value = (2.0 * fisher.min(scan)).min(1.0);
+    for l in out.iter_mut() {
+        l.counted = if scan < fisher {
+            l.rank.is_some_and(|r| r <= r_star)
+        } else {
+            l.p_value <= FOUND_P
+        };
+    }
     SeriesResult {
         p_value,
         fundamental_hz: Some(f1),
@@ -810,15 +832,14 @@ fn evidence_of(
     theory: &CharacteristicFrequencies,
     accepted: &[FaultType],
 ) -> FaultEvidence {
-    const FOUND_P: f64 = 0.05;
     let base = fault.theory_hz(theory);
     let harmonics: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order == 0).collect();
     let sidebands: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order != 0).collect();
-    let found = |v: &[&SeriesLine]| v.iter().filter(|l| l.p_value <= FOUND_P).count();
+    let found = |v: &[&SeriesLine]| v.iter().filter(|l| l.counted).count();
     let spacing: Vec<f64> = match r.fundamental_hz {
         Some(f1) => harmonics
             .iter()
-            .filter(|l| l.harmonic > 1 && l.p_value <= FOUND_P)
+            .filter(|l| l.harmonic > 1 && l.counted)
             .filter_map(|l| {
                 l.found_hz
                     .map(|f| (f / l.harmonic as f64 - f1).abs() / f1 * 100.0)
