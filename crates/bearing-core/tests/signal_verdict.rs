@@ -57,6 +57,32 @@ fn signals() -> Vec<Signal> {
         .collect()
 }
 
+/// One signal of the set and its samples.
+fn signal(id: &str) -> (Signal, Vec<f64>) {
+    let s = signals().into_iter().find(|s| s.id == id).unwrap();
+    let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
+    (s, x)
+}
+
+/// Count the fault types the verdict on `x` names, in [`FaultType::ALL`] order.
+fn tally(
+    named: &mut [usize; 4],
+    x: &[f64],
+    fs: f64,
+    g: &bearing_core::signal::KinematicGeometry,
+    shaft_hz: f64,
+    opts: &AnalysisOptions,
+) {
+    let v = analyze(x, fs, g, shaft_hz, opts)
+        .unwrap()
+        .report
+        .verdict
+        .unwrap();
+    for f in v.faults {
+        named[FaultType::ALL.iter().position(|g| *g == f).unwrap()] += 1;
+    }
+}
+
 fn verdict_of(s: &Signal, kurtogram: bool) -> Verdict {
     let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
     let g = kinematic_preset(&s.bearing).unwrap();
@@ -138,11 +164,7 @@ fn the_fundamental_found_is_the_fault_line_within_one_percent() {
 #[test]
 fn per_line_flags_carry_the_verdict() {
     // every identification of a named fault type says so, every other one not
-    let s = signals()
-        .into_iter()
-        .find(|s| s.id == "cwru_ir007_0hp_12k_de")
-        .unwrap();
-    let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
+    let (s, x) = signal("cwru_ir007_0hp_12k_de");
     let g = kinematic_preset(&s.bearing).unwrap();
     let r = analyze(&x, s.fs, &g, s.shaft_hz, &AnalysisOptions::default())
         .unwrap()
@@ -200,14 +222,7 @@ fn on_noise_the_false_alarm_rate_is_what_it_says() {
                     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
                 })
                 .collect();
-            let v = analyze(&x, 6_000.0, &g, 29.93, &opts)
-                .unwrap()
-                .report
-                .verdict
-                .unwrap();
-            for f in v.faults {
-                named[FaultType::ALL.iter().position(|g| *g == f).unwrap()] += 1;
-            }
+            tally(&mut named, &x, 6_000.0, &g, 29.93, &opts);
         }
         eprintln!(
             "fault types named on {records} noise records at a 5 % rate (kurtogram levels {kurtogram_levels:?}): {named:?}"
@@ -229,11 +244,7 @@ fn on_a_healthy_simulation_with_noise_the_false_alarm_rate_holds() {
     // in all of them. With the rate at 5 % each fault type may be named on at most about 10
     // of 200; 20 is three binomial standard deviations above (seeded: no flakes). Two
     // rates and two lengths: the first 75 ms (what a 0.1 s run analyses) and the whole 0.3 s.
-    let s = signals()
-        .into_iter()
-        .find(|s| s.id == "sim_h7005c_none")
-        .unwrap();
-    let x = common::read_f32le(&format!("tests/fixtures/eval/{}", s.file));
+    let (s, x) = signal("sim_h7005c_none");
     let rms = (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt();
     let g = kinematic_preset(&s.bearing).unwrap();
     // (rate, most namings allowed of 200): 5 % -> 20 as above; the default 1e-3 expects 0.2,
@@ -254,14 +265,7 @@ fn on_a_healthy_simulation_with_noise_the_false_alarm_rate_holds() {
         for _ in 0..records {
             // noise as strong as the signal (0 dB): a sensor's floor on a quiet machine
             let y: Vec<f64> = x[..n].iter().map(|v| v + rms * rng.normal()).collect();
-            let v = analyze(&y, s.fs, &g, s.shaft_hz, &opts)
-                .unwrap()
-                .report
-                .verdict
-                .unwrap();
-            for f in v.faults {
-                named[FaultType::ALL.iter().position(|g| *g == f).unwrap()] += 1;
-            }
+            tally(&mut named, &y, s.fs, &g, s.shaft_hz, &opts);
         }
         eprintln!(
             "healthy simulation ({n} samples) + noise, {records} realisations at rate {rate}: {named:?}"

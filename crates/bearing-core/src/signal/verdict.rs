@@ -27,9 +27,13 @@
 //!    of `w` bins is at most `r w / B`; a line of rank `r` found in its window (the anchor's
 //!    window is the whole search band) has `p = min(1, r w / B)`, a missing line `p = 1`.
 //!    The lines combine by Fisher's method (`-2 sum ln p ~ chi^2` with `2 n` degrees of
-//!    freedom), times the number of spectra examined (Bonferroni).
+//!    freedom) and by a scan of the strongest lines ([`top_lines_scan`]: how many of the
+//!    `R` strongest fall in the family's windows, a binomial tail); the smaller of the two,
+//!    doubled, times the number of spectra examined (Bonferroni).
 //! 5. **Indicated** when that probability is below the false-alarm rate
-//!    [`DEFAULT_FALSE_ALARM_RATE`] (per fault type and analysis).
+//!    [`DEFAULT_FALSE_ALARM_RATE`] (per fault type and analysis) on a spectrum whose signal
+//!    is impulsive at the same rate ([`super::impulsiveness`]: a defect strikes; a smooth
+//!    varying-compliance line does not).
 //! 6. **Attribution.** Fault types are accepted one at a time: of those that pass, the one
 //!    whose kinematic line set covers the most of the strongest remaining lines (it explains
 //!    more) is accepted first, its lines are removed from every spectrum and the others are
