@@ -12,8 +12,11 @@ use super::frequencies::{
     characteristic_frequencies, CharacteristicFrequencies, KinematicGeometry,
 };
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
+use super::impulsiveness::{impulsiveness, Impulsiveness};
 use super::kurtosis::kurtosis;
+use super::order_tracking_report::OrderTracking;
 use super::spectrum::EnvelopeSpectrumPlan;
+use super::summary::{format_p, summary};
 use super::verdict::{
     verdict, CandidateSpectrum, FaultType, Verdict, VerdictSettings, DEFAULT_FALSE_ALARM_RATE,
     DEFAULT_VERDICT_HARMONICS,
@@ -171,6 +174,11 @@ pub struct AnalysisReport {
     /// reports stored before the verdict existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
+    /// Present when the signal was resampled to constant shaft angle because its speed
+    /// varies ([`super::order_tracking::analyze_tracked`]): every frequency of the report is
+    /// then an order times `order_tracking.mean_shaft_hz`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub order_tracking: Option<OrderTracking>,
 }
 
 /// Report plus the spectra it was read from.
@@ -314,6 +322,7 @@ pub fn analyze_with(
     let pyramid = transform.forward(x, opts.levels)?;
     let mut level_kurtosis: Vec<f64> = Vec::with_capacity(opts.levels);
     let mut level_spectra: Vec<Option<Spectrum>> = vec![None; opts.levels];
+    let mut level_impulsiveness: Vec<Option<Impulsiveness>> = vec![None; opts.levels];
     let keep_all = spectra == LevelSpectra::All || opts.report_all_levels;
     let (mut plan, raw_spectrum) = if keep_all {
         // One level's full-length component at a time: its kurtosis and envelope spectrum
@@ -326,6 +335,12 @@ pub fn analyze_with(
             let component = transform.level_component(&pyramid, l);
             level_kurtosis.push(kurtosis(&component));
             level_spectra[l - 1] = Some(plan.compute(&component, fs, None));
+        }
+        // the two the verdict reads: their impulsiveness (a component again, one at a time)
+        for i in top_two(&level_kurtosis) {
+            check()?;
+            let component = transform.level_component(&pyramid, i + 1);
+            level_impulsiveness[i] = Some(impulsiveness(&component, fs, None));
         }
         drop(pyramid);
         (plan, raw_spectrum)
@@ -352,6 +367,7 @@ pub fn analyze_with(
         let raw_spectrum = plan.compute(x, fs, opts.band);
         for (i, component) in kept {
             check()?;
+            level_impulsiveness[i] = Some(impulsiveness(&component, fs, None));
             level_spectra[i] = Some(plan.compute(&component, fs, None));
         }
         (plan, raw_spectrum)
@@ -416,6 +432,7 @@ pub fn analyze_with(
         label: format!("level {}", c.level),
         band_hz: Some(c.band_hz),
         spectrum: level_spectrum(c.level - 1),
+        impulsiveness: level_impulsiveness[c.level - 1],
     };
     // The verdict reads the raw spectrum and the bands of the band-selection method asked
     // for: the kurtogram's band and its runner-up when `kurtogram_levels` is given, else the
@@ -424,6 +441,7 @@ pub fn analyze_with(
         label: "raw".into(),
         band_hz: opts.band,
         spectrum: &raw_spectrum,
+        impulsiveness: Some(impulsiveness(x, fs, opts.band)),
     }];
     if !kurtogram_reports.is_empty() {
         for (i, (k, s)) in kurtogram_reports.iter().zip(&kurtogram_spectra).enumerate() {
@@ -435,6 +453,7 @@ pub fn analyze_with(
                 },
                 band_hz: Some(k.band_hz),
                 spectrum: s,
+                impulsiveness: Some(impulsiveness(x, fs, Some(k.band_hz))),
             });
         }
     } else {
@@ -453,11 +472,16 @@ pub fn analyze_with(
             harmonics: opts.verdict_harmonics,
         },
     );
+    let mut verdict = verdict;
+    verdict.summary = summary(&verdict);
     // per-line flags carry the verdict: which lines belong to a fault type it names
     let named = |ids: &mut Vec<Identification>| {
         for id in ids.iter_mut() {
             id.in_verdict =
                 FaultType::of_line(&id.name).is_some_and(|f| verdict.faults.contains(&f));
+            id.not_counted = (id.detected && !id.in_verdict)
+                .then(|| FaultType::of_line(&id.name).map(|f| not_counted_reason(&verdict, f)))
+                .flatten();
         }
     };
     named(&mut raw);
@@ -490,6 +514,7 @@ pub fn analyze_with(
         kurtogram,
         kurtogram_runner_up,
         verdict: Some(verdict),
+        order_tracking: None,
     };
     Ok(AnalysisOutput {
         report,
@@ -498,9 +523,54 @@ pub fn analyze_with(
     })
 }
 
+/// Why a detected line of fault type `f` does not count: the verdict does not name `f`,
+/// and its evidence says why.
+fn not_counted_reason(verdict: &Verdict, f: FaultType) -> String {
+    let name = super::summary::fault_name(f);
+    let rate = format_p(verdict.false_alarm_rate);
+    match verdict.evidence.iter().find(|e| e.fault == f) {
+        Some(e) if e.p_value < verdict.false_alarm_rate => match e.impulsiveness {
+            Some(i) if !i.impulsive(verdict.false_alarm_rate) => format!(
+                "{name} not indicated: its series (p = {} < {rate}, {}) is on a signal that is not impulsive (kurtosis {:.1})",
+                format_p(e.p_value),
+                e.spectrum,
+                i.kurtosis
+            ),
+            _ => format!("{name} not indicated"),
+        },
+        Some(e) => format!(
+            "{name} not indicated: its series ranks p = {} >= {rate} (best in {}){}",
+            format_p(e.p_value),
+            e.spectrum,
+            if e.lines_attributed_to.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", after the lines of {} were attributed to it",
+                    e.lines_attributed_to
+                        .iter()
+                        .map(|a| super::summary::fault_name(*a))
+                        .collect::<Vec<_>>()
+                        .join(" and ")
+                )
+            }
+        ),
+        None => format!("{name} not tested"),
+    }
+}
+
+/// Indices of the two largest kurtoses, largest first, ties to the lower level (the order
+/// the report uses); one index for a single level.
+fn top_two(level_kurtosis: &[f64]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..level_kurtosis.len()).collect();
+    order.sort_by(|&a, &b| level_kurtosis[b].total_cmp(&level_kurtosis[a]));
+    order.truncate(2);
+    order
+}
+
 /// Sample range `[i0, i1)` of the analysis window in a signal of `n` samples at `fs` Hz,
 /// long enough for the DTCWT levels asked for.
-fn window_range(
+pub(super) fn window_range(
     opts: &AnalysisOptions,
     fs: f64,
     n: usize,

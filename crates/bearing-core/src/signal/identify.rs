@@ -92,6 +92,11 @@ pub struct Identification {
     /// stands above the noise; this, whether the diagnosis counts it.
     #[serde(default)]
     pub in_verdict: bool,
+    /// Why a detected line does not count toward the verdict (its fault type is not named,
+    /// with that type's probability and the rate), so a line shown as found never
+    /// contradicts the verdict silently; `None` for lines that count or are not detected.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub not_counted: Option<String>,
 }
 
 /// A shaft-rate sideband around a BPFI harmonic.
@@ -309,6 +314,7 @@ pub fn identify(
                     && nearer_line.is_none(),
                 nearer_line,
                 in_verdict: false,
+                not_counted: None,
             });
         }
     }

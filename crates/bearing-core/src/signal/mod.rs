@@ -11,6 +11,9 @@
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`verdict`]: the fault types the spectra indicate, with the evidence;
+//! - [`impulsiveness`]: whether a band's signal is impulsive (a defect strikes);
+//! - [`summary`]: the verdict in one plain sentence;
+//! - [`order_tracking`]: analysis at varying speed, resampled to constant shaft angle;
 //! - [`io`]: reading signals from raw f32le, CSV or JSON;
 //! - [`shaft_angle`]: the shaft's angle per sample, for order tracking.
 
@@ -21,10 +24,14 @@ pub mod analysis;
 pub mod frequencies;
 pub mod hilbert;
 pub mod identify;
+pub mod impulsiveness;
 pub mod kurtogram;
 pub mod kurtosis;
+pub mod order_tracking;
+pub mod order_tracking_report;
 pub mod shaft_angle;
 pub mod spectrum;
+pub mod summary;
 pub mod verdict;
 
 pub use analysis::{
@@ -35,4 +42,7 @@ pub use frequencies::{
     characteristic_frequencies, kinematic_preset, kinematic_preset_names,
     CharacteristicFrequencies, KinematicGeometry,
 };
+pub use order_tracking::analyze_tracked;
+pub use order_tracking_report::OrderTracking;
+pub use shaft_angle::ShaftAngle;
 pub mod io;

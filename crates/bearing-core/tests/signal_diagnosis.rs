@@ -1,0 +1,121 @@
+//! The verdict on short simulated runs, through the code the service uses
+//! (`simulation_analysis::diagnose_run`): the H7005C preset at a constant 10000 rpm for
+//! 0.1 s, the Table-1 scene (0.5 s with its ramp) and a compound run-up that is order
+//! tracked. Each run is short (about a second of solver time in release).
+//!
+//! Asserted: what the verdict achieves (issue 35). Printed, not asserted, because the
+//! verdict does not reach them yet (docs/lab/cwru.md, "Short simulated runs"): the
+//! compound 0.1 s run's outer race, the healthy Table-1 scene (its noise-free
+//! varying-compliance series in an impulsive band reads outer race) and the run-up's two
+//! faults.
+
+use bearing_core::scene::{fault_case_scene, FaultCase, Scene};
+use bearing_core::signal::verdict::{FaultType, Verdict};
+use bearing_core::simulation::{simulate, RunControl};
+use bearing_core::simulation_analysis::diagnose_run;
+
+fn constant_speed(case: FaultCase, duration: f64) -> Scene {
+    let mut s = fault_case_scene("h7005c", case).unwrap();
+    s.operating.speed.initial_rpm = 10_000.0;
+    s.operating.speed.steady_rpm = 10_000.0;
+    s.operating.speed.ramp_time = 0.0;
+    s.solver.duration = duration;
+    s
+}
+
+struct Diagnosis {
+    faults: Vec<FaultType>,
+    verdict: Verdict,
+    order_tracked: bool,
+}
+
+fn diagnose(scene: &Scene) -> Diagnosis {
+    let run = simulate(&scene.validated().unwrap(), RunControl::default()).unwrap();
+    let (_, _, out) = diagnose_run(&run, scene).unwrap();
+    let r = &out.report;
+    // one notion of "found": a line shown as found either counts toward the verdict or
+    // says why not
+    for id in r
+        .raw
+        .iter()
+        .chain(&r.best_component.identifications)
+        .chain(&r.runner_up_component.identifications)
+    {
+        assert!(
+            !id.detected || id.in_verdict || id.not_counted.is_some(),
+            "{}: {id:?}",
+            scene.name
+        );
+    }
+    let verdict = out.report.verdict.unwrap();
+    eprintln!("{}: {}", scene.name, verdict.summary);
+    let mut faults = verdict.faults.clone();
+    faults.sort_by_key(|f| FaultType::ALL.iter().position(|g| g == f));
+    Diagnosis {
+        faults,
+        verdict,
+        order_tracked: out.report.order_tracking.is_some(),
+    }
+}
+
+/// No wrong type: only the races a compound run has.
+fn names_races_only(d: &Diagnosis) -> bool {
+    d.faults
+        .iter()
+        .all(|f| matches!(f, FaultType::InnerRace | FaultType::OuterRace))
+}
+
+#[test]
+fn short_constant_speed_runs_read_their_fault() {
+    for (case, want) in [
+        (FaultCase::Inner, vec![FaultType::InnerRace]),
+        (FaultCase::Outer, vec![FaultType::OuterRace]),
+        (FaultCase::None, vec![]),
+    ] {
+        let d = diagnose(&constant_speed(case, 0.1));
+        assert_eq!(d.faults, want, "{case:?}: {}", d.verdict.summary);
+        assert!(!d.order_tracked, "constant speed needs no order tracking");
+        // the sentence says what the verdict says
+        assert_eq!(
+            d.verdict.summary.starts_with("No fault indicated"),
+            want.is_empty(),
+            "{}",
+            d.verdict.summary
+        );
+    }
+    // the compound run names the inner race (the outer race is not reached yet: printed)
+    let d = diagnose(&constant_speed(FaultCase::Compound, 0.1));
+    assert!(
+        d.faults.contains(&FaultType::InnerRace),
+        "{}",
+        d.verdict.summary
+    );
+    assert!(names_races_only(&d), "{}", d.verdict.summary);
+}
+
+#[test]
+fn table_1_compound_reads_both_races() {
+    let d = diagnose(&fault_case_scene("h7005c", FaultCase::Compound).unwrap());
+    assert_eq!(d.faults, vec![FaultType::OuterRace, FaultType::InnerRace]);
+    // printed for the record: the healthy Table-1 scene
+    diagnose(&fault_case_scene("h7005c", FaultCase::None).unwrap());
+}
+
+#[test]
+fn a_run_up_is_order_tracked_and_says_so() {
+    let mut s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+    s.operating.speed.initial_rpm = 1_000.0;
+    s.operating.speed.steady_rpm = 10_000.0;
+    s.operating.speed.ramp_time = 0.2;
+    s.solver.duration = 0.2;
+    let d = diagnose(&s);
+    // the steady window [0.1, 0.2] s lies in the ramp (5500 -> 10000 rpm): never analysed
+    // as steady without saying so
+    assert!(d.order_tracked);
+    assert!(
+        d.verdict.summary.contains("order tracked"),
+        "{}",
+        d.verdict.summary
+    );
+    assert!(names_races_only(&d), "{}", d.verdict.summary);
+}
