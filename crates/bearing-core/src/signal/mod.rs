@@ -11,7 +11,8 @@
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`verdict`]: the fault types the spectra indicate, with the evidence;
-//! - [`io`]: reading signals from raw f32le, CSV or JSON;
+//! - [`recording`]: measured recordings (MAT-file, WAV, CSV/TSV, raw f32, JSON) read, listed
+//!   and written, and the shaft angle from a tachometer channel or a speed profile;
 //! - [`shaft_angle`]: the shaft's angle per sample, for order tracking.
 
 pub mod dtcwt;
@@ -35,4 +36,4 @@ pub use frequencies::{
     characteristic_frequencies, kinematic_preset, kinematic_preset_names,
     CharacteristicFrequencies, KinematicGeometry,
 };
-pub mod io;
+pub mod recording;
