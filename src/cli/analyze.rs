@@ -1,10 +1,10 @@
-//! `bearing-sim analyze FILE --fs HZ --rpm RPM --bearing PRESET|FILE [--levels N]`:
+//! `bearing-sim analyze FILE [--channel C] [--fs HZ] [--rpm RPM] --bearing PRESET|FILE`:
 //! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report.
+//! The file is read by [`super::signal_input`] (any recording format the engine reads).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use bearing_core::signal::io::{read_signal, SignalFormat};
 use bearing_core::signal::{
     analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
     LevelSpectra,
@@ -12,18 +12,12 @@ use bearing_core::signal::{
 use serde::{Deserialize, Serialize};
 
 use super::result::CliResult;
+use super::signal_input::SignalInputArgs;
 
 #[derive(clap::Args, Debug)]
 pub struct AnalyzeArgs {
-    /// Signal file: raw little-endian float32 (.f32le/.f32/.raw/.bin), single-column CSV
-    /// (.csv/.txt) or a JSON array (.json).
-    pub file: PathBuf,
-    /// Sample rate, Hz.
-    #[arg(long)]
-    pub fs: f64,
-    /// Shaft (inner ring) speed, rev/min.
-    #[arg(long)]
-    pub rpm: f64,
+    #[command(flatten)]
+    pub input: SignalInputArgs,
     /// Bearing: a preset name (h7005c, cwru6205) or a JSON file with ball_count,
     /// ball_diameter (m), pitch_diameter (m), contact_angle (rad).
     #[arg(long)]
@@ -31,9 +25,6 @@ pub struct AnalyzeArgs {
     /// DTCWT levels.
     #[arg(long, default_value_t = 5)]
     pub levels: usize,
-    /// Sample format (default: from the file extension).
-    #[arg(long, value_parser = parse_format)]
-    pub format: Option<SignalFormat>,
     /// Analysis window T0,T1 in s from the first sample (default: whole signal).
     #[arg(long, value_parser = parse_pair)]
     pub window: Option<[f64; 2]>,
@@ -72,10 +63,6 @@ pub struct AnalyzeArgs {
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
-}
-
-fn parse_format(s: &str) -> Result<SignalFormat, String> {
-    s.parse()
 }
 
 fn parse_pair(s: &str) -> Result<[f64; 2], String> {
@@ -139,18 +126,8 @@ struct SpectraFile<'a> {
 }
 
 pub fn main(args: AnalyzeArgs) -> CliResult {
-    if !(args.fs.is_finite() && args.fs > 0.0) {
-        return Err(format!("--fs: must be a sample rate > 0 Hz (got {})", args.fs).into());
-    }
-    if !(args.rpm.is_finite() && args.rpm > 0.0) {
-        return Err(format!(
-            "--rpm: must be a shaft speed > 0 rev/min (got {})",
-            args.rpm
-        )
-        .into());
-    }
     let geometry = load_bearing(&args.bearing)?;
-    let samples = read_signal(&args.file, args.format)?;
+    let signal = args.input.read()?;
     let opts = AnalysisOptions {
         levels: args.levels,
         window: args.window,
@@ -171,16 +148,19 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
     } else {
         LevelSpectra::Chosen
     };
+    // TRACKING: where signal.shaft_angle is Some (a tachometer channel or a speed profile),
+    // this is the call site for the order-tracked analysis (signal::analyze_tracked, issue
+    // 35); until it is on this branch the mean speed over the signal stands in.
     let out = analyze_with(
-        &samples,
-        args.fs,
+        &signal.samples,
+        signal.sample_rate,
         &geometry,
-        args.rpm / 60.0,
+        signal.shaft_rpm / 60.0,
         &opts,
         None,
         spectra,
     )
-    .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    .map_err(|e| format!("{}: {e}", args.input.file.display()))?;
     if let Some(path) = &args.spectra_out {
         let f = SpectraFile {
             raw: &out.raw_spectrum,

@@ -41,7 +41,7 @@ fn time_scale(name: &str, unit: Option<&str>) -> Option<f64> {
 }
 
 /// The sample rate a time column implies; an error when it is not evenly spaced (no
-/// sample more than half a period off the line through the first and last).
+/// sample more than half a period off the least-squares line).
 fn rate_from_time(t: &[f64], name: &str) -> ReadResult<f64> {
     let n = t.len();
     if n < 2 || t[n - 1] <= t[0] {
@@ -50,15 +50,23 @@ fn rate_from_time(t: &[f64], name: &str) -> ReadResult<f64> {
             format!("time column '{name}' does not increase"),
         ));
     }
-    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
-    if let Some(k) = (0..n).find(|&k| (t[k] - (t[0] + k as f64 * dt)).abs() > 0.5 * dt) {
+    // the least-squares period: rounding in the printed times averages out
+    let (k_mean, t_mean) = ((n - 1) as f64 / 2.0, t.iter().sum::<f64>() / n as f64);
+    let (mut num, mut den) = (0.0, 0.0);
+    for (k, tk) in t.iter().enumerate() {
+        num += (k as f64 - k_mean) * (tk - t_mean);
+        den += (k as f64 - k_mean).powi(2);
+    }
+    let dt = num / den;
+    let t0 = t_mean - dt * k_mean;
+    if let Some(k) = (0..n).find(|&k| (t[k] - (t0 + k as f64 * dt)).abs() > 0.5 * dt) {
         return Err((
             "sample_rate",
             format!(
                 "time column '{name}' is not evenly spaced: row {} is at {} s, {} s expected from a period of {dt} s",
                 k + 1,
                 t[k],
-                t[0] + k as f64 * dt
+                t0 + k as f64 * dt
             ),
         ));
     }

@@ -20,7 +20,8 @@ use std::path::Path;
 pub use export::{write_csv, write_mat_v5, write_wav, ExportChannel, ExportFormat};
 pub use listing::{ChannelListing, Listing, SkippedListing};
 pub use tachometer::{
-    angle_from_pulses, angle_from_speed_profile, pulses_from_angle, PulseOptions,
+    angle_from_pulses, angle_from_speed_profile, parse_speed_profile, pulses_from_angle,
+    PulseOptions,
 };
 
 /// The container formats read.

@@ -4,6 +4,7 @@
 
 use std::f64::consts::TAU;
 
+use super::{ChannelChoice, Recording, RecordingError};
 use crate::signal::shaft_angle::ShaftAngle;
 
 /// How pulses are found in a tachometer channel.
@@ -145,6 +146,73 @@ pub fn angle_from_speed_profile(
         radians.push(angle);
     }
     ShaftAngle::new(radians, n).map_err(|e| e.to_string())
+}
+
+impl Recording {
+    /// The shaft angle for the `signal_len` samples of a channel, from the tachometer
+    /// channel `choice` names in the same file.
+    pub fn tachometer_angle(
+        &self,
+        choice: &ChannelChoice,
+        opts: &PulseOptions,
+        signal_len: usize,
+        source_name: &str,
+    ) -> Result<ShaftAngle, RecordingError> {
+        let tach = self
+            .channel(Some(choice), source_name)
+            .map_err(|e| RecordingError {
+                field: "tachometer",
+                ..e
+            })?;
+        if tach.samples.len() != signal_len {
+            return Err(RecordingError::new(
+                source_name,
+                "tachometer",
+                format!(
+                    "tachometer channel '{}' has {} samples, the signal {signal_len}",
+                    tach.name,
+                    tach.samples.len()
+                ),
+            ));
+        }
+        angle_from_pulses(&tach.samples, opts).map_err(|m| {
+            RecordingError::new(
+                source_name,
+                "tachometer",
+                format!("channel '{}': {m}", tach.name),
+            )
+        })
+    }
+}
+
+/// A speed profile file: rows of `time (s), rpm`, separated by commas, tabs or spaces,
+/// after an optional header line.
+pub fn parse_speed_profile(text: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
+    let (mut times, mut rpm) = (vec![], vec![]);
+    for (i, line) in text.lines().enumerate() {
+        let fields: Vec<&str> = line
+            .split(|c: char| c == ',' || c == '\t' || c == ' ')
+            .filter(|f| !f.is_empty())
+            .collect();
+        if fields.is_empty() || line.trim_start().starts_with('#') {
+            continue;
+        }
+        let nums: Vec<Option<f64>> = fields.iter().map(|f| f.parse().ok()).collect();
+        match nums.as_slice() {
+            [Some(t), Some(r)] => {
+                times.push(*t);
+                rpm.push(*r);
+            }
+            _ if times.is_empty() && i == 0 => {} // a header
+            _ => {
+                return Err(format!(
+                    "line {}: expected two numbers, time (s) and rpm",
+                    i + 1
+                ))
+            }
+        }
+    }
+    Ok((times, rpm))
 }
 
 /// A once-per-revolution tachometer channel for a shaft angle: 5 (a TTL high) over the
