@@ -20,6 +20,8 @@ mod ops;
 mod presets;
 pub mod problem;
 mod quasi_static;
+mod recording_upload;
+mod recordings;
 pub mod results;
 mod router;
 pub mod routes;

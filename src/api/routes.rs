@@ -2,7 +2,9 @@
 //! generated OpenAPI document has exactly these paths and methods.
 
 use super::state::AppState;
-use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
+use super::{
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulations, studies,
+};
 use axum::handler::Handler;
 use axum::routing::{on, MethodFilter, MethodRouter};
 
@@ -64,6 +66,7 @@ pub fn table() -> Vec<RouteDef> {
         r("get", "/v1/studies/{id}/table", studies::table),
         r("get", "/v1/studies/{id}/plots/{name}", studies::plot),
         r("post", "/v1/analyses", analyses::submit),
+        r("post", "/v1/recordings/inspect", recordings::inspect),
         r("get", "/v1/analyses", analyses::list),
         RouteDef {
             long_poll: true,

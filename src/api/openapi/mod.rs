@@ -6,7 +6,9 @@
 pub mod params;
 pub mod responses;
 
-use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
+use super::{
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulations, studies,
+};
 use std::sync::OnceLock;
 use utoipa::OpenApi;
 
@@ -73,6 +75,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         analyses::cancel,
         analyses::result,
         analyses::spectra,
+        recordings::inspect,
         quasi_static::solve,
         presets::list,
         presets::get,
