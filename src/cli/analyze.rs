@@ -1,8 +1,9 @@
 //! `bearing-sim analyze FILE [--channel C] [--fs HZ] [--rpm RPM] --bearing PRESET|FILE`:
-//! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report.
-//! The file is read by [`super::signal_input`] (any recording format the engine reads).
+//! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report,
+//! on a terminal after the verdict's plain sentence. The file is read by
+//! [`super::signal_input`] (any recording format the engine reads).
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use bearing_core::signal::{
@@ -169,8 +170,15 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
         std::fs::write(path, serde_json::to_vec(&f)?)
             .map_err(|e| format!("--spectra-out {}: {e}", path.display()))?;
     }
-    let text = serde_json::to_string_pretty(&out.report)?;
+    let mut text = serde_json::to_string_pretty(&out.report)?;
     let mut stdout = std::io::stdout().lock();
+    // A person at a terminal reads the verdict's sentence first; a pipe gets pure JSON
+    // (the sentence is in it, at `verdict.summary`).
+    if stdout.is_terminal() {
+        if let Some(v) = &out.report.verdict {
+            text = format!("{}\n\n{text}", v.summary);
+        }
+    }
     match writeln!(stdout, "{text}") {
         // the reader went away (e.g. `| head`): not an error of ours
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),

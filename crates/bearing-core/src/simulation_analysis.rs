@@ -3,8 +3,11 @@
 
 use crate::model::Model;
 use crate::scene::Scene;
-use crate::signal::analysis::{analyze, AnalysisError, AnalysisOptions, AnalysisOutput};
+use crate::signal::analysis::{
+    analyze, AnalysisError, AnalysisOptions, AnalysisOutput, LevelSpectra,
+};
 use crate::signal::frequencies::{characteristic_frequencies, KinematicGeometry};
+use crate::signal::order_tracking::{analyze_tracked, angle_speed_varies};
 use crate::signal::shaft_angle::{ShaftAngle, ShaftAngleError};
 use crate::signal::spectrum::band_rms;
 use crate::simulation::SimResult;
@@ -68,7 +71,9 @@ pub fn diagnose_run(
 /// Analyse `channel` of a simulation result: sample rate from the result, geometry from
 /// the scene's bearing, shaft speed from the run's mean shaft speed (the steady rpm if
 /// absent), and, unless `opts.window` is given, the engine's steady window (the window the
-/// summary averages over: it is chosen once, by the run).
+/// summary averages over: it is chosen once, by the run). When the speed varies over the
+/// window (it lies in the ramp: a run that never settles), the signal is order tracked by
+/// the run's own shaft angle ([`run_shaft_angle`]) and the report says so.
 pub fn analyze_simulation(
     result: &SimResult,
     scene: &Scene,
@@ -96,13 +101,30 @@ pub fn analyze_simulation(
         let [s0, s1] = result.summary.steady_window;
         o.window = Some([(s0 - start).max(0.0), (s1 - start).min(duration)]);
     }
-    analyze(
-        &ch.data,
-        fs,
-        &KinematicGeometry::from_bearing(&scene.bearing),
-        shaft_hz,
-        &o,
-    )
+    let geometry = KinematicGeometry::from_bearing(&scene.bearing);
+    // A window inside the speed ramp is order tracked: the run knows its shaft angle.
+    if let Ok(angle) = run_shaft_angle(result, scene) {
+        let (i0, i1) = window_samples(o.window, fs, ch.data.len());
+        let theory = characteristic_frequencies(&geometry, shaft_hz);
+        let highest = (o.verdict_harmonics as f64 + 0.5) * theory.bpfi.max(theory.bpfo);
+        if i1 > i0 + 1 && angle_speed_varies(&angle.radians()[i0..i1], fs, highest) {
+            return analyze_tracked(&ch.data, fs, &geometry, &angle, &o, None, LevelSpectra::All);
+        }
+    }
+    analyze(&ch.data, fs, &geometry, shaft_hz, &o)
+}
+
+/// Samples `[i0, i1)` of a window `[t0, t1]` s (the whole record without one), as the
+/// analysis rounds it.
+fn window_samples(window: Option<[f64; 2]>, fs: f64, n: usize) -> (usize, usize) {
+    match window {
+        None => (0, n),
+        Some([t0, t1]) => {
+            let i0 = ((t0 * fs).round().max(0.0) as usize).min(n);
+            let i1 = ((t1 * fs).round().max(0.0) as usize).min(n);
+            (i0, i1.max(i0))
+        }
+    }
 }
 
 /// Cage and ball-pass frequencies, Hz.

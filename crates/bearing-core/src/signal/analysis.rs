@@ -13,7 +13,9 @@ use super::frequencies::{
 };
 use super::identify::{bpfi_sidebands, identify, IdentifyOptions, DEFAULT_THRESHOLD_DB};
 use super::kurtosis::kurtosis;
+use super::order_tracking_report::OrderTracking;
 use super::spectrum::EnvelopeSpectrumPlan;
+use super::summary::summary;
 use super::verdict::{
     verdict, CandidateSpectrum, FaultType, Verdict, VerdictSettings, DEFAULT_FALSE_ALARM_RATE,
     DEFAULT_VERDICT_HARMONICS,
@@ -171,6 +173,11 @@ pub struct AnalysisReport {
     /// reports stored before the verdict existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub verdict: Option<Verdict>,
+    /// Present when the signal was resampled to constant shaft angle because its speed
+    /// varies ([`super::order_tracking::analyze_tracked`]): every frequency of the report is
+    /// then an order times `order_tracking.mean_shaft_hz`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub order_tracking: Option<OrderTracking>,
 }
 
 /// Report plus the spectra it was read from.
@@ -453,6 +460,8 @@ pub fn analyze_with(
             harmonics: opts.verdict_harmonics,
         },
     );
+    let mut verdict = verdict;
+    verdict.summary = summary(&verdict);
     // per-line flags carry the verdict: which lines belong to a fault type it names
     let named = |ids: &mut Vec<Identification>| {
         for id in ids.iter_mut() {
@@ -490,6 +499,7 @@ pub fn analyze_with(
         kurtogram,
         kurtogram_runner_up,
         verdict: Some(verdict),
+        order_tracking: None,
     };
     Ok(AnalysisOutput {
         report,
@@ -500,7 +510,7 @@ pub fn analyze_with(
 
 /// Sample range `[i0, i1)` of the analysis window in a signal of `n` samples at `fs` Hz,
 /// long enough for the DTCWT levels asked for.
-fn window_range(
+pub(super) fn window_range(
     opts: &AnalysisOptions,
     fs: f64,
     n: usize,

@@ -11,6 +11,8 @@
 //! - [`kurtogram`]: spectral kurtosis over a 1/3-binary tree of bands (Antoni's kurtogram);
 //! - [`identify`]: peak search, sub-bin interpolation, prominence, detection;
 //! - [`verdict`]: the fault types the spectra indicate, with the evidence;
+//! - [`summary`]: the verdict in one plain sentence;
+//! - [`order_tracking`]: analysis at varying speed, resampled to constant shaft angle;
 //! - [`recording`]: measured recordings (MAT-file, WAV, CSV/TSV, raw f32, JSON) read, listed
 //!   and written, and the shaft angle from a tachometer channel or a speed profile;
 //! - [`shaft_angle`]: the shaft's angle per sample, for order tracking.
@@ -24,8 +26,11 @@ pub mod hilbert;
 pub mod identify;
 pub mod kurtogram;
 pub mod kurtosis;
+pub mod order_tracking;
+pub mod order_tracking_report;
 pub mod shaft_angle;
 pub mod spectrum;
+pub mod summary;
 pub mod verdict;
 
 pub use analysis::{
@@ -36,4 +41,7 @@ pub use frequencies::{
     characteristic_frequencies, kinematic_preset, kinematic_preset_names,
     CharacteristicFrequencies, KinematicGeometry,
 };
+pub use order_tracking::analyze_tracked;
+pub use order_tracking_report::OrderTracking;
+pub use shaft_angle::ShaftAngle;
 pub mod recording;

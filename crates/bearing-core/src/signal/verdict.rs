@@ -186,6 +186,11 @@ pub struct FaultEvidence {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct Verdict {
+    /// The verdict in one plain sentence: what is indicated, its probability next to the
+    /// false-alarm rate, and the lines it rests on (written by the analysis with
+    /// [`super::summary::summary`]). Empty in reports stored before it existed.
+    #[serde(default)]
+    pub summary: String,
     /// Fault types indicated, in the order they were accepted (strongest explanation
     /// first); empty = no fault indicated.
     pub faults: Vec<FaultType>,
@@ -674,6 +679,7 @@ pub fn verdict(
         }
     }
     Verdict {
+        summary: String::new(),
         faults: accepted,
         false_alarm_rate,
         harmonics: n,
