@@ -164,9 +164,6 @@ pub async fn submit(
             .map_err(|e| Problem::internal(format!("reading the file failed: {e}")))??;
         let signal = uploaded_signal(&q, name, &rec)?;
         file_name = Some(signal.name.clone());
-        // TRACKING: signal.shaft_angle (a tachometer channel) is where the order-tracked
-        // analysis (signal::analyze_tracked, issue 35) takes over; until it is on this
-        // branch the mean speed over the signal stands in.
         from_query(
             &q,
             signal.samples,

@@ -27,6 +27,7 @@ mod router;
 pub mod routes;
 mod scene_input;
 mod simulation_plots;
+mod simulation_recording;
 mod simulations;
 mod state;
 mod strict_json;

@@ -1,18 +1,16 @@
 //! An uploaded recording file (the request body) read through the engine's one reader:
 //! the format from `format=` or the `filename=` extension, the channel from `channel=`
 //! (name or 0-based index), the sample rate and shaft speed from the file or the query
-//! (never guessed), the tachometer from `tacho_channel=`. Every problem is a 422 naming the
+//! (never guessed); a tachometer (`tacho_channel=`) is not yet taken over HTTP. Every problem is a 422 naming the
 //! query parameter at fault (`format`, `channel`, `sample_rate`, `shaft_rpm`, `file`,
-//! `samples`, `channels`, `tachometer`).
+//! `samples`, `channels`, `tacho_channel`).
 
 use super::extract::QueryParams;
 use super::problem::{ApiResult, Problem};
 use crate::config::Config;
 use bearing_core::signal::recording::{
-    read_recording, ChannelChoice, PulseOptions, Recording, RecordingError, RecordingFormat,
-    RecordingLimits,
+    read_recording, ChannelChoice, Recording, RecordingError, RecordingFormat, RecordingLimits,
 };
-use bearing_core::signal::shaft_angle::ShaftAngle;
 
 /// Channels one uploaded file may hold.
 pub const MAX_UPLOAD_CHANNELS: usize = 64;
@@ -63,11 +61,8 @@ pub struct UploadedSignal {
     pub name: String,
     pub samples: Vec<f64>,
     pub sample_rate: f64,
-    /// Hz; for a tracked signal, the mean over the signal.
+    /// Hz.
     pub shaft_hz: f64,
-    // TRACKING: read by the order-tracked analysis once it is on this branch (issue 35)
-    #[allow(dead_code)]
-    pub shaft_angle: Option<ShaftAngle>,
 }
 
 /// The channel, sample rate, shaft speed and tachometer of an uploaded recording.
@@ -83,25 +78,18 @@ pub fn uploaded_signal(
     let sample_rate = rec
         .sample_rate(q.f64("sample_rate")?, &name)
         .map_err(recording_problem)?;
-    let n = channel.samples.len();
-    let shaft_angle = match q.str("tacho_channel") {
-        None => None,
-        Some(t) => {
-            let mut opts = PulseOptions::default();
-            if let Some(p) = q.get::<usize>("pulses_per_rev")? {
-                opts.pulses_per_rev = p;
-            }
-            opts.threshold = q.f64("tacho_threshold")?;
-            Some(
-                rec.tachometer_angle(&ChannelChoice(t.to_string()), &opts, n, &name)
-                    .map_err(recording_problem)?,
-            )
-        }
-    };
-    let shaft_hz = match (&shaft_angle, q.f64("shaft_hz")?) {
-        (Some(a), _) => a.revolutions() * sample_rate / (n - 1) as f64,
-        (None, Some(hz)) => hz,
-        (None, None) => {
+    if q.str("tacho_channel").is_some() {
+        // TRACKING: analysis jobs do not yet take a shaft angle (their stored input has
+        // none), so a tachometer is refused rather than analysed at a mean speed that would
+        // smear a run-up's lines; the command line order-tracks it
+        return Err(Problem::field(
+            "tacho_channel",
+            "a tachometer is not yet analysed over HTTP; use `bearing-sim analyze --tacho-channel`",
+        ));
+    }
+    let shaft_hz = match q.f64("shaft_hz")? {
+        Some(hz) => hz,
+        None => {
             rec.shaft_rpm(q.f64("shaft_rpm")?, &name)
                 .map_err(recording_problem)?
                 / 60.0
@@ -112,6 +100,5 @@ pub fn uploaded_signal(
         samples: channel.samples.clone(),
         sample_rate,
         shaft_hz,
-        shaft_angle,
     })
 }

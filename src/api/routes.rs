@@ -3,7 +3,8 @@
 
 use super::state::AppState;
 use super::{
-    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulations, studies,
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulation_recording,
+    simulations, studies,
 };
 use axum::handler::Handler;
 use axum::routing::{on, MethodFilter, MethodRouter};
@@ -49,6 +50,11 @@ pub fn table() -> Vec<RouteDef> {
         r("post", "/v1/simulations/{id}/cancel", simulations::cancel),
         r("get", "/v1/simulations/{id}/result", simulations::result),
         r("get", "/v1/simulations/{id}/signals", simulations::signals),
+        r(
+            "get",
+            "/v1/simulations/{id}/recording",
+            simulation_recording::recording,
+        ),
         r("get", "/v1/simulations/{id}/spectra", simulations::spectra),
         r(
             "get",

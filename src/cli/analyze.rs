@@ -7,8 +7,8 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
 use bearing_core::signal::{
-    analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
-    LevelSpectra,
+    analyze_tracked, analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions,
+    KinematicGeometry, LevelSpectra,
 };
 use serde::{Deserialize, Serialize};
 
@@ -149,18 +149,27 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
     } else {
         LevelSpectra::Chosen
     };
-    // TRACKING: where signal.shaft_angle is Some (a tachometer channel or a speed profile),
-    // this is the call site for the order-tracked analysis (signal::analyze_tracked, issue
-    // 35); until it is on this branch the mean speed over the signal stands in.
-    let out = analyze_with(
-        &signal.samples,
-        signal.sample_rate,
-        &geometry,
-        signal.shaft_rpm / 60.0,
-        &opts,
-        None,
-        spectra,
-    )
+    // a tachometer channel or a speed profile: order tracked by the shaft angle it gives
+    let out = match &signal.shaft_angle {
+        Some(angle) => analyze_tracked(
+            &signal.samples,
+            signal.sample_rate,
+            &geometry,
+            angle,
+            &opts,
+            None,
+            spectra,
+        ),
+        None => analyze_with(
+            &signal.samples,
+            signal.sample_rate,
+            &geometry,
+            signal.shaft_rpm / 60.0,
+            &opts,
+            None,
+            spectra,
+        ),
+    }
     .map_err(|e| format!("{}: {e}", args.input.file.display()))?;
     if let Some(path) = &args.spectra_out {
         let f = SpectraFile {

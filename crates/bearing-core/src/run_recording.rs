@@ -24,8 +24,7 @@ pub fn export_run(
 ) -> Result<Vec<u8>, String> {
     let ch = &result.channels;
     let angle = run_shaft_angle(result, scene)?;
-    let pulses = pulses_from_angle(angle.radians());
-    let mut channels: Vec<ExportChannel> = ch
+    let channels: Vec<ExportChannel> = ch
         .channels
         .iter()
         .map(|c| ExportChannel {
@@ -34,19 +33,32 @@ pub fn export_run(
             samples: &c.data,
         })
         .collect();
-    channels.push(ExportChannel {
+    export_with_angle(&channels, angle.radians(), ch.sample_rate, format)
+}
+
+/// `channels`, then the shaft angle `radians` and the tachometer pulses made from it,
+/// in `format`: the export of a run whose channels were stored apart (the service's).
+pub fn export_with_angle(
+    channels: &[ExportChannel],
+    radians: &[f64],
+    sample_rate: f64,
+    format: ExportFormat,
+) -> Result<Vec<u8>, String> {
+    let pulses = pulses_from_angle(radians);
+    let mut all = channels.to_vec();
+    all.push(ExportChannel {
         name: SHAFT_ANGLE_CHANNEL,
         unit: Some("rad"),
-        samples: angle.radians(),
+        samples: radians,
     });
-    channels.push(ExportChannel {
+    all.push(ExportChannel {
         name: TACHOMETER_CHANNEL,
         unit: Some("V"),
         samples: &pulses,
     });
     match format {
-        ExportFormat::Wav => write_wav(&channels, ch.sample_rate),
-        ExportFormat::Csv => write_csv(&channels, ch.sample_rate),
-        ExportFormat::Mat => write_mat_v5(&channels, ch.sample_rate, None),
+        ExportFormat::Wav => write_wav(&all, sample_rate),
+        ExportFormat::Csv => write_csv(&all, sample_rate),
+        ExportFormat::Mat => write_mat_v5(&all, sample_rate, None),
     }
 }

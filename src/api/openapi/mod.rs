@@ -7,7 +7,8 @@ pub mod params;
 pub mod responses;
 
 use super::{
-    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulations, studies,
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulation_recording,
+    simulations, studies,
 };
 use std::sync::OnceLock;
 use utoipa::OpenApi;
@@ -59,6 +60,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         simulations::cancel,
         simulations::result,
         simulations::signals,
+        simulation_recording::recording,
         simulations::spectra,
         simulation_plots::plot,
         studies::submit,

@@ -115,13 +115,9 @@ pub struct RawAnalysisQuery {
     /// A recording file: the channel to analyse, by name or 0-based index (required when
     /// the file holds several; `POST /v1/recordings/inspect` lists them).
     pub channel: Option<String>,
-    /// A recording file: the tachometer channel (pulses) the shaft speed is taken from.
+    /// Not yet taken over HTTP (422): order tracking by a tachometer channel is on the
+    /// command line (`bearing-sim analyze --tacho-channel`).
     pub tacho_channel: Option<String>,
-    /// A recording file: tachometer pulses per revolution (default 1).
-    #[param(minimum = 1, maximum = 1000)]
-    pub pulses_per_rev: Option<usize>,
-    /// A recording file: the tachometer's threshold (default: midway between its extremes).
-    pub tacho_threshold: Option<f64>,
     /// Raw body, Hz (required there); a recording file only when it carries none (a WAV
     /// header, a CSV time column or a MAT-file's `fs` variable do; a different value is a 422).
     #[param(exclusive_minimum = 0.0)]
@@ -249,4 +245,18 @@ pub struct InspectQuery {
     pub filename: Option<String>,
     /// The format, when the file name does not tell: `mat`, `wav`, `csv`, `tsv`, `f32le`, `json`.
     pub format: Option<String>,
+    /// Up to this many samples of each channel in the listing (every k-th), to plot it.
+    #[param(minimum = 0, maximum = 10000)]
+    pub preview: Option<usize>,
+}
+
+/// The format of a run exported as a recording.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Query)]
+#[allow(dead_code)] // documents the query the handler reads
+pub struct RecordingExportQuery {
+    /// `wav` (32-bit float), `csv` (a time column and a named header) or `mat` (level-5
+    /// MAT-file with `fs`).
+    #[param(example = "mat")]
+    pub format: String,
 }

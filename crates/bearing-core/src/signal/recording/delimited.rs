@@ -118,14 +118,15 @@ pub(super) fn read(bytes: &[u8], sep: u8, limits: &RecordingLimits) -> ReadResul
         check_sample_count(columns[0].len() + 1, limits)?;
         for (k, f) in fields.iter().enumerate() {
             let x = f.trim().parse::<f64>().map_err(|_| {
+                // a lone column needs no name to be found
+                let column = if width > 1 {
+                    format!(", column '{}'", names[k].0)
+                } else {
+                    String::new()
+                };
                 (
                     "file",
-                    format!(
-                        "line {}, column '{}': '{}' is not a number",
-                        i + 1,
-                        names[k].0,
-                        f.trim()
-                    ),
+                    format!("line {}{column}: '{}' is not a number", i + 1, f.trim()),
                 )
             })?;
             columns[k].push(x);
@@ -188,8 +189,10 @@ mod tests {
     fn malformed() {
         let e = csv("a,b\n1,2\n3\n").err().unwrap();
         assert_eq!(e.1, "line 3: 1 fields, the header has 2");
-        let e = csv("a\n1\nx\n").err().unwrap();
+        let e = csv("a,b\n1,2\nx,3\n").err().unwrap();
         assert_eq!(e.1, "line 3, column 'a': 'x' is not a number");
+        let e = csv("a\n1\nx\n").err().unwrap();
+        assert_eq!(e.1, "line 3: 'x' is not a number");
         let e = csv("t,a\n0,1\n1,1\n5,1\n").err().unwrap();
         assert_eq!(e.0, "sample_rate");
         assert!(csv("").is_err());

@@ -16,6 +16,10 @@ pub struct ChannelListing {
     pub unit: Option<String>,
     /// s, where the sample rate is known.
     pub duration: Option<f64>,
+    /// Every k-th sample, at most the number asked for (see [`Recording::listing_with_preview`]):
+    /// enough to plot the channel before it is analysed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preview: Option<Vec<f64>>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -46,6 +50,12 @@ pub struct Listing {
 impl Recording {
     /// The listing of this recording.
     pub fn listing(&self) -> Listing {
+        self.listing_with_preview(0)
+    }
+
+    /// The listing with up to `points` samples of each channel (every k-th sample, k the
+    /// smallest that fits), none when `points` is 0.
+    pub fn listing_with_preview(&self, points: usize) -> Listing {
         let rate = self.sample_rate.as_ref().map(|s| s.value);
         Listing {
             format: self.format,
@@ -61,6 +71,10 @@ impl Recording {
                     samples: c.samples.len(),
                     unit: c.unit.clone(),
                     duration: rate.map(|r| c.samples.len() as f64 / r),
+                    preview: (points > 0).then(|| {
+                        let k = c.samples.len().div_ceil(points).max(1);
+                        c.samples.iter().step_by(k).copied().collect()
+                    }),
                 })
                 .collect(),
             skipped: self
