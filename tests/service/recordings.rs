@@ -66,6 +66,16 @@ fn cli_verdict(file: &str, extra: &[&str]) -> Value {
     r["verdict"].clone()
 }
 
+/// The channel names of an `inspect --json` listing.
+fn channel_names(listing: &Value) -> Vec<&str> {
+    listing["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect()
+}
+
 fn faults(verdict: &Value) -> Vec<&str> {
     verdict["faults"]
         .as_array()
@@ -98,13 +108,7 @@ fn inspect_lists_the_channels_of_every_format() {
     ] {
         let out = run(&["inspect", &fixture(file), "--json"]).unwrap();
         let l: Value = serde_json::from_str(&out).unwrap();
-        let got: Vec<&str> = l["channels"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|c| c["name"].as_str().unwrap())
-            .collect();
-        assert_eq!(got, names, "{file}");
+        assert_eq!(channel_names(&l), names, "{file}");
         assert!(l["channels"]
             .as_array()
             .unwrap()
@@ -335,7 +339,8 @@ async fn malformed_uploads_are_problems_naming_the_field() {
         } else {
             format!("{q}&{query}")
         };
-        let (st, h, problem) = upload(&c, &s, "/v1/analyses", "cwru_ir007.mat", &query).await;
+        let (st, h, problem) =
+            upload(&c, &s, "/v1/analyses", "cwru_ir007_compressed.mat", &query).await;
         if field == "sample_rate" {
             // a MAT-file without fs takes the rate given: this one is fine (and queued
             // for want of workers, or answered); only its absence is a problem
@@ -397,14 +402,8 @@ fn an_exported_compound_run_up_reads_back_as_a_measured_recording() {
     .unwrap();
     let listing: Value =
         serde_json::from_str(&run(&["inspect", mat_s, "--json"]).unwrap()).unwrap();
-    let names: Vec<&str> = listing["channels"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| c["name"].as_str().unwrap())
-        .collect();
     assert_eq!(
-        names,
+        channel_names(&listing),
         [
             "outer_ring_accel_y",
             "outer_ring_accel_z",
@@ -438,4 +437,55 @@ fn an_exported_compound_run_up_reads_back_as_a_measured_recording() {
     let mut f = faults(&r["verdict"]);
     f.sort();
     assert_eq!(f, ["inner_race", "outer_race"], "{}", r["verdict"]);
+}
+
+/// `GET /v1/simulations/{id}/recording`: a finished run as a recording file in each
+/// format, which reads back through the same reader with the run's channels, its shaft
+/// angle and tachometer, and its sample rate.
+#[tokio::test]
+async fn a_finished_run_downloads_as_a_recording() {
+    use bearing_core::signal::recording::{read_recording, RecordingFormat, RecordingLimits};
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "1"]);
+    let c = client();
+    let id = submit(&c, &s, &steady_scene(0.02)).await;
+    let job = wait_finished(&c, &s, &id, std::time::Duration::from_secs(120)).await;
+    assert_eq!(job["state"], "succeeded", "{job}");
+    let url = |q: &str| s.url(&format!("/v1/simulations/{id}/recording?{q}"));
+    for (f, format, media) in [
+        ("wav", RecordingFormat::Wav, "audio/wav"),
+        ("csv", RecordingFormat::Csv, "text/csv"),
+        ("mat", RecordingFormat::Mat, "application/x-matlab-data"),
+    ] {
+        let r = c.get(url(&format!("format={f}"))).send().await.unwrap();
+        assert_eq!(r.status(), 200, "{f}");
+        assert_eq!(r.headers()["content-type"], media);
+        let bytes = r.bytes().await.unwrap();
+        let rec = read_recording(&bytes, format, f, &RecordingLimits::LOCAL).unwrap();
+        let names: Vec<&str> = rec.channels.iter().map(|c| c.name.as_str()).collect();
+        let last = &names[names.len() - 2..];
+        if f == "wav" {
+            assert_eq!(names.len(), 4, "{names:?}"); // y, z, angle, tachometer; no names in WAV
+        } else {
+            assert_eq!(last, ["shaft_angle", "tachometer"], "{f}");
+            assert!(names.contains(&"outer_ring_accel_z"), "{names:?}");
+        }
+        let fs = rec.sample_rate.unwrap().value;
+        assert!((fs - 102_400.0).abs() < 1e-3, "{f}: {fs}");
+        // the tachometer pulses once a revolution: its rising edges are a revolution apart
+        let tach = &rec.channels[names.len() - 1].samples;
+        let edges = tach
+            .windows(2)
+            .filter(|w| w[0] < 2.5 && w[1] >= 2.5)
+            .count();
+        let angle = &rec.channels[names.len() - 2].samples;
+        let turns = (angle[angle.len() - 1] - angle[0]) / std::f64::consts::TAU;
+        assert!(
+            (edges as f64 - turns).abs() <= 1.0,
+            "{f}: {edges} edges, {turns} turns"
+        );
+    }
+    let r = c.get(url("format=tdms")).send().await.unwrap();
+    let (st, h, problem) = decode(r).await;
+    assert_problem(st, &h, &problem, 400);
 }
