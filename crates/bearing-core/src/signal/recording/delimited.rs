@@ -3,7 +3,7 @@
 //! named `time`, `t`, `time_s` or `t_s` (unit s, or ms) is the time axis: it gives the
 //! sample rate and is not a channel. Every row must have as many fields as the first.
 
-use super::{
+use super::contents::{
     check_channel_count, check_sample_count, stated, Channel, ReadResult, Recording,
     RecordingFormat, RecordingLimits, Stated,
 };
@@ -193,7 +193,8 @@ mod tests {
         assert_eq!(e.1, "line 3, column 'a': 'x' is not a number");
         let e = csv("a\n1\nx\n").err().unwrap();
         assert_eq!(e.1, "line 3: 'x' is not a number");
-        let e = csv("t,a\n0,1\n1,1\n5,1\n").err().unwrap();
+        // a gap of seven periods in a time column
+        let e = csv("t,a\n0,1\n1,1\n2,1\n3,1\n10,1\n11,1\n12,1\n").err().unwrap();
         assert_eq!(e.0, "sample_rate");
         assert!(csv("").is_err());
     }

@@ -152,7 +152,8 @@ pub fn write_mat_v5(
 
 #[cfg(test)]
 mod tests {
-    use super::super::{read_recording, RecordingFormat, RecordingLimits};
+    use super::super::contents::RecordingLimits;
+    use super::super::delimited;
     use super::*;
 
     #[test]
@@ -171,15 +172,25 @@ mod tests {
                 samples: &b,
             },
         ];
-        for (bytes, f) in [
-            (write_wav(&chans, 20000.0).unwrap(), RecordingFormat::Wav),
-            (write_csv(&chans, 20000.0).unwrap(), RecordingFormat::Csv),
+        let limits = RecordingLimits::LOCAL;
+        for (r, f) in [
             (
-                write_mat_v5(&chans, 20000.0, Some(1200.0)).unwrap(),
-                RecordingFormat::Mat,
+                wav::read(&write_wav(&chans, 20000.0).unwrap(), &limits),
+                "wav",
+            ),
+            (
+                delimited::read(&write_csv(&chans, 20000.0).unwrap(), b',', &limits),
+                "csv",
+            ),
+            (
+                mat_v5::read(
+                    &write_mat_v5(&chans, 20000.0, Some(1200.0)).unwrap(),
+                    &limits,
+                ),
+                "mat",
             ),
         ] {
-            let r = read_recording(&bytes, f, "x", &RecordingLimits::LOCAL).unwrap();
+            let r = r.unwrap();
             assert_eq!(r.channels.len(), 2, "{f:?}");
             // 20 kHz back within the CSV time column's printed precision
             assert!(

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::{Recording, RecordingFormat, Stated};
+use super::contents::{Recording, RecordingFormat, Stated};
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]

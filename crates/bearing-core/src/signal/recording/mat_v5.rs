@@ -13,7 +13,7 @@
 
 use std::io::Read;
 
-use super::{
+use super::contents::{
     check_channel_count, check_sample_count, stated, Channel, ReadResult, Recording,
     RecordingFormat, RecordingLimits, Skipped, Stated,
 };

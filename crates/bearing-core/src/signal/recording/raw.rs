@@ -1,6 +1,8 @@
 //! Today's one-channel formats: raw little-endian f32 and a JSON array of numbers.
 
-use super::{check_sample_count, Channel, ReadResult, Recording, RecordingFormat, RecordingLimits};
+use super::contents::{
+    check_sample_count, Channel, ReadResult, Recording, RecordingFormat, RecordingLimits,
+};
 
 fn one_channel(format: RecordingFormat, samples: Vec<f64>) -> Recording {
     Recording {
@@ -51,37 +53,32 @@ pub(super) fn read_json(bytes: &[u8], limits: &RecordingLimits) -> ReadResult<Re
 
 #[cfg(test)]
 mod tests {
-    use super::super::{read_recording, RecordingLimits};
     use super::*;
-
-    fn read(bytes: &[u8], f: RecordingFormat) -> Result<Vec<f64>, String> {
-        read_recording(bytes, f, "a", &RecordingLimits::LOCAL)
-            .map(|r| r.channels[0].samples.clone())
-            .map_err(|e| e.to_string())
-    }
 
     #[test]
     fn raw_and_json() {
+        let limits = RecordingLimits::LOCAL;
+        let samples = |r: ReadResult<Recording>| r.unwrap().channels[0].samples.clone();
         let raw: Vec<u8> = [1.5f32, -2.0]
             .iter()
             .flat_map(|v| v.to_le_bytes())
             .collect();
-        assert_eq!(read(&raw, RecordingFormat::F32le).unwrap(), vec![1.5, -2.0]);
-        assert!(read(&raw[..5], RecordingFormat::F32le)
-            .unwrap_err()
-            .starts_with("a: 5 bytes"));
-        assert_eq!(
-            read(b"[1, 2.5]", RecordingFormat::Json).unwrap(),
-            vec![1.0, 2.5]
-        );
-        assert!(read(b"[1, \"a\"]", RecordingFormat::Json)
-            .unwrap_err()
+        assert_eq!(samples(read_f32le(&raw, &limits)), vec![1.5, -2.0]);
+        assert!(read_f32le(&raw[..5], &limits)
+            .err()
+            .unwrap()
+            .1
+            .starts_with("5 bytes"));
+        assert_eq!(samples(read_json(b"[1, 2.5]", &limits)), vec![1.0, 2.5]);
+        assert!(read_json(b"[1, \"a\"]", &limits)
+            .err()
+            .unwrap()
+            .1
             .contains("[1]"));
         let small = RecordingLimits {
             max_samples: 1,
-            ..RecordingLimits::LOCAL
+            ..limits
         };
-        let e = read_recording(&raw, RecordingFormat::F32le, "a", &small).unwrap_err();
-        assert_eq!(e.field, "samples");
+        assert_eq!(read_f32le(&raw, &small).err().unwrap().0, "samples");
     }
 }

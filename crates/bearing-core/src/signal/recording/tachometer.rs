@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use super::{ChannelChoice, Recording, RecordingError};
+use super::contents::{ChannelChoice, Recording, RecordingError};
 use crate::signal::shaft_angle::ShaftAngle;
 
 /// How pulses are found in a tachometer channel.

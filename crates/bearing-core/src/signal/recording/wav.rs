@@ -2,7 +2,7 @@
 //! channels, the sample rate from the header. PCM samples are scaled to full scale
 //! (-1 to 1), since the file carries no physical unit.
 
-use super::{
+use super::contents::{
     check_channel_count, check_sample_count, stated, Channel, ReadResult, Recording,
     RecordingFormat, RecordingLimits,
 };
