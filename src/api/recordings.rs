@@ -54,8 +54,6 @@ pub async fn inspect(
     // parsing a large file is CPU work: off the async threads
     let (_, rec) = tokio::task::spawn_blocking(move || read_upload(&q, &body, &config))
         .await
-        .map_err(|e| {
-            super::problem::Problem::internal(format!("reading the file failed: {e}"))
-        })??;
-    Ok(Json(rec.listing()))
+        .map_err(|e| Problem::internal(format!("reading the file failed: {e}")))??;
+    Ok(Json(rec.listing_with_preview(points)))
 }

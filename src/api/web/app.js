@@ -281,14 +281,12 @@ async function uploadView() {
   const field = (path, label, input) =>
     h("div", { class: "field", "data-path": path }, h("label", { for: input.id }, label), input, h("div", { class: "error" }));
   const channel = h("select", { id: "channel" });
-  const tacho = h("select", { id: "tacho" }, h("option", { value: "" }, "none"));
   form.append(
     h("div", { class: "grid" },
       field("file", "Recording (.mat, .wav, .csv/.tsv, f32 little-endian, JSON array)", h("input", { id: "file", type: "file", accept: RECORDING_TYPES, required: true })),
       field("channel", "Channel", channel),
       field("sample_rate", "Sample rate (Hz)", h("input", { id: "fs", type: "number", step: "any" })),
       field("shaft_rpm", "Shaft speed (rev/min)", h("input", { id: "rpm", type: "number", step: "any" })),
-      field("tachometer", "Tachometer channel", tacho),
       h("div", { class: "field" }, h("label", { for: "bearing" }, "Bearing"), h("select", { id: "bearing" }, ["cwru6205", "h7005c"].map((b) => h("option", { value: b }, b)))),
       field("kurtogram_levels", "Kurtogram levels (blank: none)", h("input", { id: "kurtogram", type: "number", min: 1, max: 12, step: 1 }))),
     about, previewBox,
@@ -324,7 +322,7 @@ async function uploadView() {
   fileInput.addEventListener("change", async () => {
     clearErrors();
     listing = null; previews = [];
-    channel.replaceChildren(); tacho.replaceChildren(h("option", { value: "" }, "none"));
+    channel.replaceChildren();
     about.textContent = ""; previewBox.hidden = true;
     const file = fileInput.files[0];
     if (!file) return;
@@ -338,14 +336,13 @@ async function uploadView() {
     for (const c of listing.channels) {
       const text = `${c.index}: ${c.name} (${c.samples} samples${c.unit ? `, ${c.unit}` : ""})`;
       channel.append(h("option", { value: c.index }, text));
-      tacho.append(h("option", { value: c.index }, text));
     }
     const rate = listing.sample_rate, speed = listing.shaft_rpm;
-    // what the file carries fills the fields; what it lacks is left for the user
-    fsInput.value = rate ? rate.value : "";
+    // what the file carries fills the fields; what it lacks is left as the user typed it
+    if (rate) fsInput.value = rate.value;
     fsInput.placeholder = rate ? "" : "not in the file: required";
-    rpmInput.value = speed ? speed.value : "";
-    rpmInput.placeholder = speed ? "" : "not in the file: required (or a tachometer)";
+    if (speed) rpmInput.value = speed.value;
+    rpmInput.placeholder = speed ? "" : "not in the file: required";
     about.textContent = [
       `${listing.format} file, ${listing.channels.length} channel${listing.channels.length === 1 ? "" : "s"}`,
       rate ? `sample rate ${fmt(rate.value)} Hz (${rate.from})` : "no sample rate in the file",
@@ -364,9 +361,7 @@ async function uploadView() {
     if (channel.value !== "") q.set("channel", channel.value);
     const fromFile = (s) => s && listing && listing[s];
     if (fsInput.value && !fromFile("sample_rate")) q.set("sample_rate", fsInput.value);
-    if (tacho.value !== "") {
-      q.set("tacho_channel", tacho.value);
-    } else if (rpmInput.value && !(fromFile("shaft_rpm") && Number(rpmInput.value) === listing.shaft_rpm.value)) {
+    if (rpmInput.value && !(fromFile("shaft_rpm") && Number(rpmInput.value) === listing.shaft_rpm.value)) {
       q.set("shaft_rpm", rpmInput.value);
     }
     const kl = form.querySelector("#kurtogram").value;
