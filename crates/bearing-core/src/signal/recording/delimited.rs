@@ -194,7 +194,9 @@ mod tests {
         let e = csv("a\n1\nx\n").err().unwrap();
         assert_eq!(e.1, "line 3: 'x' is not a number");
         // a gap of seven periods in a time column
-        let e = csv("t,a\n0,1\n1,1\n2,1\n3,1\n10,1\n11,1\n12,1\n").err().unwrap();
+        let e = csv("t,a\n0,1\n1,1\n2,1\n3,1\n10,1\n11,1\n12,1\n")
+            .err()
+            .unwrap();
         assert_eq!(e.0, "sample_rate");
         assert!(csv("").is_err());
     }
