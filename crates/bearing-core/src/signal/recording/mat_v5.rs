@@ -100,7 +100,7 @@ fn numbers(e: &Element, what: &str) -> ReadResult<Vec<f64>> {
     macro_rules! conv {
         ($t:ty) => {{
             const W: usize = std::mem::size_of::<$t>();
-            if e.data.len() % W != 0 {
+            if !e.data.len().is_multiple_of(W) {
                 return Err((
                     "file",
                     format!(

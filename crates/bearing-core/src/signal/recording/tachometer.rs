@@ -76,7 +76,7 @@ pub fn angle_from_pulses(pulses: &[f64], opts: &PulseOptions) -> Result<ShaftAng
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
             (a.min(x), b.max(x))
         });
-    if !(max > min) {
+    if max.partial_cmp(&min) != Some(std::cmp::Ordering::Greater) {
         return Err("the tachometer channel is flat: no pulses".into());
     }
     let threshold = opts.threshold.unwrap_or(0.5 * (min + max));
@@ -113,7 +113,10 @@ pub fn angle_from_speed_profile(
     if times.len() != rpm.len() || times.is_empty() {
         return Err("a speed profile needs as many times as speeds, at least one".into());
     }
-    if let Some(i) = times.windows(2).position(|w| !(w[1] > w[0])) {
+    if let Some(i) = times
+        .windows(2)
+        .position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+    {
         return Err(format!("speed profile times must increase (row {})", i + 2));
     }
     if let Some(i) = rpm.iter().position(|r| !(r.is_finite() && *r >= 0.0)) {
@@ -191,7 +194,7 @@ pub fn parse_speed_profile(text: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
     let (mut times, mut rpm) = (vec![], vec![]);
     for (i, line) in text.lines().enumerate() {
         let fields: Vec<&str> = line
-            .split(|c: char| c == ',' || c == '\t' || c == ' ')
+            .split([',', '\t', ' '])
             .filter(|f| !f.is_empty())
             .collect();
         if fields.is_empty() || line.trim_start().starts_with('#') {
