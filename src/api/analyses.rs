@@ -1,5 +1,6 @@
-//! `POST /v1/analyses`: the diagnosis pipeline on a measured signal, sent as JSON samples
-//! or as a raw little-endian f32 body with query parameters. Small signals are answered
+//! `POST /v1/analyses`: the diagnosis pipeline on a measured signal, sent as JSON samples,
+//! as a raw little-endian f32 body with query parameters, or as a recording file (`.mat`,
+//! WAV, CSV, ...) with `filename=`/`format=` ([`super::recording_upload`]). Small signals are answered
 //! directly (200); large ones, or `mode=async`, are queued as jobs (202).
 
 use super::caller::Caller;
@@ -15,6 +16,7 @@ use super::openapi::responses::{
     UnsupportedMediaType,
 };
 use super::problem::{ApiResult, FieldProblem, Problem};
+use super::recording_upload::{is_upload, read_upload, uploaded_signal};
 use super::results::{self, AnalysisResult, SpectrumView};
 use super::state::AppState;
 use super::submission::enqueue;
@@ -151,13 +153,27 @@ pub async fn submit(
         )));
     }
     let ct = content_type(&headers).unwrap_or_default();
+    let mut file_name = None;
     let (input, samples) = if super::extract::is_json(&headers) {
         from_json(&body)?
+    } else if ct == "application/octet-stream" && is_upload(&q) {
+        let config = state.config.clone();
+        let (q2, body2) = (q.clone(), body.clone());
+        let (name, rec) = tokio::task::spawn_blocking(move || read_upload(&q2, &body2, &config))
+            .await
+            .map_err(|e| Problem::internal(format!("reading the file failed: {e}")))??;
+        let signal = uploaded_signal(&q, name, &rec)?;
+        file_name = Some(signal.name.clone());
+        from_query(
+            &q,
+            signal.samples,
+            Some((signal.sample_rate, signal.shaft_hz)),
+        )?
     } else if ct == "application/octet-stream" {
         from_raw(&q, &body)?
     } else {
         return Err(Problem::unsupported_media(format!(
-            "expected Content-Type application/json or application/octet-stream (raw f32 little-endian samples), got {}",
+            "expected Content-Type application/json or application/octet-stream (raw f32 little-endian samples, or a recording file with filename= or format=), got {}",
             if ct.is_empty() { "none" } else { &ct }
         )));
     };
@@ -169,7 +185,8 @@ pub async fn submit(
     }
     if mode == "async" || samples.len() > state.config.sync_analysis_samples {
         let value = serde_json::to_value(&input).map_err(|e| Problem::internal(e.to_string()))?;
-        let label = format!("{} samples at {} Hz", samples.len(), input.sample_rate);
+        let label = file_name
+            .unwrap_or_else(|| format!("{} samples at {} Hz", samples.len(), input.sample_rate));
         return enqueue(
             &state,
             &caller,
@@ -246,13 +263,25 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
             ),
         ));
     }
-    let samples = crate::store::blob::decode_f32le(body);
-    let sample_rate = q.f64("sample_rate")?.ok_or_else(|| {
-        Problem::field(
-            "sample_rate",
-            "required with a raw body: the query parameter sample_rate (Hz)",
-        )
-    })?;
+    from_query(q, crate::store::blob::decode_f32le(body), None)
+}
+
+/// The analysis the query parameters describe, of `samples`; `known` is the sample rate
+/// and shaft frequency (Hz) an uploaded file gave, which the query then does not.
+fn from_query(
+    q: &QueryParams,
+    samples: Vec<f64>,
+    known: Option<(f64, f64)>,
+) -> ApiResult<(AnalysisInput, Vec<f64>)> {
+    let sample_rate = match known {
+        Some((fs, _)) => fs,
+        None => q.f64("sample_rate")?.ok_or_else(|| {
+            Problem::field(
+                "sample_rate",
+                "required with a raw body: the query parameter sample_rate (Hz)",
+            )
+        })?,
+    };
     let explicit = match (
         q.get::<usize>("ball_count")?,
         q.f64("ball_diameter")?,
@@ -275,7 +304,10 @@ fn from_raw(q: &QueryParams, body: &[u8]) -> ApiResult<(AnalysisInput, Vec<f64>)
     };
     let geometry = geometry(q.str("preset"), explicit, "preset")?;
     let speed_field = speed_field(q.str("shaft_rpm").is_some());
-    let shaft_hz = shaft_hz(q.f64("shaft_hz")?, q.f64("shaft_rpm")?)?;
+    let shaft_hz = match known {
+        Some((_, hz)) => hz,
+        None => shaft_hz(q.f64("shaft_hz")?, q.f64("shaft_rpm")?)?,
+    };
     let mut options = AnalysisOptions::default();
     if let Some(l) = q.get::<usize>("levels")? {
         options.levels = l;

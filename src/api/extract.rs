@@ -129,7 +129,7 @@ pub fn kind_of(v: &Value) -> &'static str {
 }
 
 /// Decoded query parameters; each handler reads the ones it knows (others are ignored).
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct QueryParams(std::collections::BTreeMap<String, String>);
 
 impl QueryParams {

@@ -2,7 +2,10 @@
 //! generated OpenAPI document has exactly these paths and methods.
 
 use super::state::AppState;
-use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
+use super::{
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulation_recording,
+    simulations, studies,
+};
 use axum::handler::Handler;
 use axum::routing::{on, MethodFilter, MethodRouter};
 
@@ -47,6 +50,11 @@ pub fn table() -> Vec<RouteDef> {
         r("post", "/v1/simulations/{id}/cancel", simulations::cancel),
         r("get", "/v1/simulations/{id}/result", simulations::result),
         r("get", "/v1/simulations/{id}/signals", simulations::signals),
+        r(
+            "get",
+            "/v1/simulations/{id}/recording",
+            simulation_recording::recording,
+        ),
         r("get", "/v1/simulations/{id}/spectra", simulations::spectra),
         r(
             "get",
@@ -64,6 +72,7 @@ pub fn table() -> Vec<RouteDef> {
         r("get", "/v1/studies/{id}/table", studies::table),
         r("get", "/v1/studies/{id}/plots/{name}", studies::plot),
         r("post", "/v1/analyses", analyses::submit),
+        r("post", "/v1/recordings/inspect", recordings::inspect),
         r("get", "/v1/analyses", analyses::list),
         RouteDef {
             long_poll: true,

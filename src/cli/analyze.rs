@@ -1,30 +1,24 @@
-//! `bearing-sim analyze FILE --fs HZ --rpm RPM --bearing PRESET|FILE [--levels N]`:
+//! `bearing-sim analyze FILE [--channel C] [--fs HZ] [--rpm RPM] --bearing PRESET|FILE`:
 //! the vibration-analysis pipeline on a recorded or simulated signal; prints a JSON report,
-//! on a terminal after the verdict's plain sentence.
+//! on a terminal after the verdict's plain sentence. The file is read by
+//! [`super::signal_input`] (any recording format the engine reads).
 
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 
-use bearing_core::signal::io::{read_signal, SignalFormat};
 use bearing_core::signal::{
-    analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions, KinematicGeometry,
-    LevelSpectra,
+    analyze_tracked, analyze_with, kinematic_preset, kinematic_preset_names, AnalysisOptions,
+    KinematicGeometry, LevelSpectra,
 };
 use serde::{Deserialize, Serialize};
 
 use super::result::CliResult;
+use super::signal_input::SignalInputArgs;
 
 #[derive(clap::Args, Debug)]
 pub struct AnalyzeArgs {
-    /// Signal file: raw little-endian float32 (.f32le/.f32/.raw/.bin), single-column CSV
-    /// (.csv/.txt) or a JSON array (.json).
-    pub file: PathBuf,
-    /// Sample rate, Hz.
-    #[arg(long)]
-    pub fs: f64,
-    /// Shaft (inner ring) speed, rev/min.
-    #[arg(long)]
-    pub rpm: f64,
+    #[command(flatten)]
+    pub input: SignalInputArgs,
     /// Bearing: a preset name (h7005c, cwru6205) or a JSON file with ball_count,
     /// ball_diameter (m), pitch_diameter (m), contact_angle (rad).
     #[arg(long)]
@@ -32,9 +26,6 @@ pub struct AnalyzeArgs {
     /// DTCWT levels.
     #[arg(long, default_value_t = 5)]
     pub levels: usize,
-    /// Sample format (default: from the file extension).
-    #[arg(long, value_parser = parse_format)]
-    pub format: Option<SignalFormat>,
     /// Analysis window T0,T1 in s from the first sample (default: whole signal).
     #[arg(long, value_parser = parse_pair)]
     pub window: Option<[f64; 2]>,
@@ -73,10 +64,6 @@ pub struct AnalyzeArgs {
     /// Also write the envelope spectra (raw and per level) as JSON to this file.
     #[arg(long)]
     pub spectra_out: Option<PathBuf>,
-}
-
-fn parse_format(s: &str) -> Result<SignalFormat, String> {
-    s.parse()
 }
 
 fn parse_pair(s: &str) -> Result<[f64; 2], String> {
@@ -140,18 +127,8 @@ struct SpectraFile<'a> {
 }
 
 pub fn main(args: AnalyzeArgs) -> CliResult {
-    if !(args.fs.is_finite() && args.fs > 0.0) {
-        return Err(format!("--fs: must be a sample rate > 0 Hz (got {})", args.fs).into());
-    }
-    if !(args.rpm.is_finite() && args.rpm > 0.0) {
-        return Err(format!(
-            "--rpm: must be a shaft speed > 0 rev/min (got {})",
-            args.rpm
-        )
-        .into());
-    }
     let geometry = load_bearing(&args.bearing)?;
-    let samples = read_signal(&args.file, args.format)?;
+    let signal = args.input.read()?;
     let opts = AnalysisOptions {
         levels: args.levels,
         window: args.window,
@@ -172,16 +149,28 @@ pub fn main(args: AnalyzeArgs) -> CliResult {
     } else {
         LevelSpectra::Chosen
     };
-    let out = analyze_with(
-        &samples,
-        args.fs,
-        &geometry,
-        args.rpm / 60.0,
-        &opts,
-        None,
-        spectra,
-    )
-    .map_err(|e| format!("{}: {e}", args.file.display()))?;
+    // a tachometer channel or a speed profile: order tracked by the shaft angle it gives
+    let out = match &signal.shaft_angle {
+        Some(angle) => analyze_tracked(
+            &signal.samples,
+            signal.sample_rate,
+            &geometry,
+            angle,
+            &opts,
+            None,
+            spectra,
+        ),
+        None => analyze_with(
+            &signal.samples,
+            signal.sample_rate,
+            &geometry,
+            signal.shaft_rpm / 60.0,
+            &opts,
+            None,
+            spectra,
+        ),
+    }
+    .map_err(|e| format!("{}: {e}", args.input.file.display()))?;
     if let Some(path) = &args.spectra_out {
         let f = SpectraFile {
             raw: &out.raw_spectrum,

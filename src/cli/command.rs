@@ -2,7 +2,7 @@
 
 use super::result::CliResult;
 use super::{
-    analyze, bench, quasi_static, run, scene_cmd, serve_cmd, study, token_cmd, worker_cmd,
+    analyze, bench, inspect, quasi_static, run, scene_cmd, serve_cmd, study, token_cmd, worker_cmd,
 };
 use clap::{Parser, Subcommand};
 
@@ -27,6 +27,8 @@ enum Command {
     Scene(scene_cmd::SceneArgs),
     /// Analyse a measured or simulated vibration signal.
     Analyze(analyze::AnalyzeArgs),
+    /// List the channels of a recording (.mat, .wav, .csv, ...): names, lengths, sample rate.
+    Inspect(inspect::InspectArgs),
     /// Run the HTTP service.
     Serve(serve_cmd::ServeArgs),
     /// Run job workers only, on a database shared with API nodes (`serve --workers 0`).
@@ -46,6 +48,7 @@ impl Cli {
             Command::QuasiStatic(a) => quasi_static::main(a),
             Command::Scene(a) => scene_cmd::main(a),
             Command::Analyze(a) => analyze::main(a),
+            Command::Inspect(a) => inspect::main(a),
             Command::Serve(a) => serve_cmd::main(a),
             Command::Worker(a) => worker_cmd::main(a),
             Command::Token(a) => token_cmd::main(a),

@@ -1,8 +1,10 @@
-//! `bearing-sim run SCENE [--fault ...] [--duration S] --out FILE`.
+//! `bearing-sim run SCENE [--fault ...] [--duration S] --out FILE [--export FILE.wav|csv|mat]`.
 
 use super::result::CliResult;
 use super::scene_arg::load_scene;
+use bearing_core::run_recording::export_run;
 use bearing_core::scene::FaultCase;
+use bearing_core::signal::recording::ExportFormat;
 use bearing_core::simulation::{simulate, RunControl};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -28,6 +30,11 @@ pub struct RunArgs {
     /// Output JSON file.
     #[arg(long)]
     pub out: std::path::PathBuf,
+    /// Also write the run as a measured recording (.wav, .csv or .mat, by the extension):
+    /// its channels, the shaft angle (`shaft_angle`, rad) and a once-per-revolution
+    /// tachometer (`tachometer`), for `analyze --channel ... --tacho-channel tachometer`.
+    #[arg(long)]
+    pub export: Option<std::path::PathBuf>,
 }
 
 pub fn main(args: RunArgs) -> CliResult {
@@ -40,6 +47,10 @@ pub fn main(args: RunArgs) -> CliResult {
     if args.contact_loads_ball.is_some() {
         scene.outputs.contact_loads_ball = args.contact_loads_ball;
     }
+    let export_format = match &args.export {
+        None => None,
+        Some(p) => Some(export_format(p)?),
+    };
     let scene = scene.validated()?;
     let bar = ProgressBar::new(1000);
     bar.set_style(
@@ -77,5 +88,17 @@ pub fn main(args: RunArgs) -> CliResult {
     let file = std::fs::File::create(&args.out)
         .map_err(|e| format!("--out {}: {e}", args.out.display()))?;
     serde_json::to_writer(std::io::BufWriter::new(file), &out)?;
+    if let (Some(path), Some(format)) = (&args.export, export_format) {
+        let bytes = export_run(&result, &scene, format)
+            .map_err(|e| format!("--export {}: {e}", path.display()))?;
+        std::fs::write(path, bytes).map_err(|e| format!("--export {}: {e}", path.display()))?;
+    }
     Ok(())
+}
+
+/// The export format a file's extension names.
+fn export_format(path: &std::path::Path) -> Result<ExportFormat, String> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    ext.parse()
+        .map_err(|e| format!("--export {}: {e} (from the extension)", path.display()))
 }

@@ -36,6 +36,24 @@ pub fn channel_artifacts(ch: &Channels) -> Vec<Artifact> {
         .collect()
 }
 
+/// Name of the artifact holding a run's shaft angle, rad per sample.
+pub const SHAFT_ANGLE_ARTIFACT: &str = "shaft_angle";
+
+/// A run's shaft angle as an artifact shaped like a channel.
+pub fn shaft_angle_artifact(ch: &Channels, radians: &[f64]) -> Artifact {
+    Artifact {
+        name: SHAFT_ANGLE_ARTIFACT.into(),
+        meta: ArtifactMeta::Channel {
+            name: SHAFT_ANGLE_ARTIFACT.into(),
+            unit: "rad".into(),
+            sample_rate: ch.sample_rate,
+            start_time: ch.start_time,
+            samples: radians.len(),
+        },
+        data: encode_f32le(radians),
+    }
+}
+
 /// Raw envelope spectrum and one per DTCWT level, with their bin width.
 pub fn spectrum_artifacts(out: &AnalysisOutput) -> Vec<Artifact> {
     let spectrum = |name: String, s: &bearing_core::signal::Spectrum| Artifact {

@@ -1,7 +1,7 @@
 //! A simulation job: reload the valid scene, run the engine, analyse the outer-ring
 //! acceleration over the run's steady window, and build the stored record and artifacts.
 
-use super::artifacts::{channel_artifacts, spectrum_artifacts};
+use super::artifacts::{channel_artifacts, shaft_angle_artifact, spectrum_artifacts};
 use super::control::Control;
 use super::outcome::{to_stored, JobFailure, JobOutput};
 use super::record::{
@@ -11,7 +11,9 @@ use super::record::{
 use crate::store::{Artifact, FailureKind};
 use bearing_core::scene::ValidScene;
 use bearing_core::simulation::{simulate, BallSummary, RunControl, SimError, SimResult};
-use bearing_core::simulation_analysis::{diagnose_run, first_non_finite, frequency_comparison};
+use bearing_core::simulation_analysis::{
+    diagnose_run, first_non_finite, frequency_comparison, run_shaft_angle,
+};
 
 /// Written beside the slip in every record, so the number is never read without it.
 const SLIP_DEFINITION: &str = "slip = 1 - mean cage speed / epicyclic speed, where the epicyclic speed is the pure rolling (outer-race control) of the loaded balls: the load zone's contact angles weighted by their contact loads";
@@ -59,6 +61,11 @@ pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, Jo
 pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, Vec<Artifact>) {
     let s = &result.summary;
     let mut artifacts = channel_artifacts(&result.channels);
+    // the shaft angle, for exporting the run as a measured recording with its tachometer
+    // (not listed among the channels: it is the prescribed speed's integral, not an output)
+    if let Ok(angle) = run_shaft_angle(result, scene) {
+        artifacts.push(shaft_angle_artifact(&result.channels, angle.radians()));
+    }
     let (analysis, analysis_error) = match diagnose_run(result, scene) {
         Ok((channel, options, out)) => {
             artifacts.extend(spectrum_artifacts(&out));

@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 BINARY = ROOT / "target" / "release" / "bearing-sim"
 CHROMIUM = os.environ.get("BEARING_SIM_CHROMIUM", "/usr/bin/chromium")
 CWRU_IR = ROOT / "crates" / "bearing-core" / "tests" / "fixtures" / "cwru" / "cwru_ir007_0hp_12k_de.f32le"
+RECORDINGS = ROOT / "crates" / "bearing-core" / "tests" / "fixtures" / "recordings"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--disable-component-update", "--disable-sync", "--disable-quic", "--no-first-run"]
 
@@ -332,6 +333,44 @@ def run(page, base, shots, console_errors):
         got = page.evaluate(OVERLAPS, "#spectrum-chart")
         assert not got["bad"], f"overlapping labels in the CWRU spectrum: {got['bad']}"
 
+    def recording_files_list_their_channels_and_name_the_inner_race():
+        # issue 36: the page lists a file's channels (through the API's reader) before it
+        # uploads it, plots the chosen one, and the job keeps the file's name
+        for name, channel, fs in [("cwru_ir007.mat", "0", "12000"), ("ir007_pcm16.wav", "0", None),
+                                  ("ir007.csv", "0", None)]:
+            page.goto(f"{base}/#/upload")
+            page.set_input_files("#file", str(RECORDINGS / name))
+            expect(page.locator("#recording-about")).to_contain_text("channel")
+            if name.endswith(".mat"):
+                expect(page.locator("#channel option")).to_have_count(2)
+                expect(page.locator("#recording-about")).to_contain_text("X105RPM")
+                expect(page.locator("#recording-about")).to_contain_text("no sample rate in the file")
+                expect(page.locator("#rpm")).to_have_value("1797")
+            else:
+                expect(page.locator("#channel option")).to_have_count(1)
+                expect(page.locator("#fs")).to_have_value(re.compile(r"^1199\d|^12000"))
+                page.fill("#rpm", "1797")
+            page.select_option("#channel", channel)
+            if fs:
+                page.fill("#fs", fs)
+            expect(page.locator("#recording-preview svg")).to_be_visible()
+            if shots and name.endswith(".mat"):
+                page.screenshot(path=str(shots / "upload-recording.png"))
+            page.select_option("#bearing", "cwru6205")
+            page.click("button[type=submit]")
+            page.wait_for_url(re.compile(r"#/analyses/[\w-]+$"))
+            expect(page.locator("#job-state")).to_have_text("succeeded", timeout=120_000)
+            expect(page.locator("#summary")).to_contain_text("inner race")
+            expect(page.locator("body")).to_contain_text(name)
+        # a channel that does not exist is not offered; a file that cannot be read says why,
+        # next to the file field
+        page.goto(f"{base}/#/upload")
+        bad = Path(tempfile.mkdtemp()) / "ragged.csv"
+        bad.write_text("time,accel\n0,1\n0.001,2,3\n")
+        page.set_input_files("#file", str(bad))
+        expect(page.locator('.field[data-path="file"] .error')).to_contain_text("line 3: 3 fields, the header has 2")
+        console_errors[:] = [e for e in console_errors if "status of 422" not in e]
+
     def cancel_a_running_job():
         submit_form(page, base, 0.5)
         page.wait_for_url(re.compile(r"#/simulations/[\w-]+$"))
@@ -451,6 +490,7 @@ def run(page, base, shots, console_errors):
     check("a named run", a_named_short_run_to_compare)
     check("two jobs overlaid and side by side", two_jobs_overlaid)
     check("a study started from the page, its table and trend plots", a_study_started_from_the_page)
+    check("recording files (.mat, WAV, CSV): channels listed, inner race named", recording_files_list_their_channels_and_name_the_inner_race)
     check("keyboard navigation", keyboard_reaches_the_navigation)
     check("no page scrolls sideways at 420 or 360 px", narrow_windows_do_not_scroll_sideways)
     check("unreachable service", unreachable_service_says_so)

@@ -63,6 +63,8 @@ const LAYERS: &[Layers] = &[
             ("simulation", 5),
             // The glue that analyses a simulated signal sits above both.
             ("simulation_analysis", 6),
+            // A simulated run written as a measured recording (needs its shaft angle).
+            ("run_recording", 7),
             // The stress suite builds scenes, runs them and checks their results.
             ("stress", 6),
             // Study requests, designs and plans as data, and the table read from runs.

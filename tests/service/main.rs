@@ -11,6 +11,7 @@ mod api;
 mod bench_cli;
 mod concurrency;
 mod hardening;
+mod recordings;
 mod recovery;
 mod scale_out;
 mod signal_cli;

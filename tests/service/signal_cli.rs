@@ -154,7 +154,7 @@ fn errors_say_what_is_wrong_with_which_input() {
         bad.to_str().unwrap(),
         "12000",
         "cwru6205",
-        &["--format", "wav"],
+        &["--format", "xyz"],
     ));
     assert!(
         e.contains("--format") || e.contains("unknown format"),

@@ -26,6 +26,8 @@
 //! - [`signal`]: characteristic frequencies, envelope spectra, DTCWT, identification. It
 //!   knows bearings (scene) but nothing of simulations.
 //! - [`simulation_analysis`]: the glue that analyses a simulated signal (above both).
+//! - [`run_recording`]: a simulated run written as a measured recording (its channels,
+//!   shaft angle and tachometer pulses as WAV, CSV or a MAT-file).
 //! - [`study`]: parameter studies as data: a request and its designs (the paper's Figures
 //!   23-28, Table 2, the lubricant sensitivity) expanded into validated points, and the
 //!   table read from their runs. Running the points is the caller's.
@@ -39,6 +41,7 @@ pub mod model;
 pub mod ode;
 pub mod physics;
 pub mod quasi_static;
+pub mod run_recording;
 pub mod scene;
 pub mod signal;
 pub mod simulation;

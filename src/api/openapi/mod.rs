@@ -6,7 +6,10 @@
 pub mod params;
 pub mod responses;
 
-use super::{analyses, ops, presets, quasi_static, simulation_plots, simulations, studies};
+use super::{
+    analyses, ops, presets, quasi_static, recordings, simulation_plots, simulation_recording,
+    simulations, studies,
+};
 use std::sync::OnceLock;
 use utoipa::OpenApi;
 
@@ -57,6 +60,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         simulations::cancel,
         simulations::result,
         simulations::signals,
+        simulation_recording::recording,
         simulations::spectra,
         simulation_plots::plot,
         studies::submit,
@@ -73,6 +77,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         analyses::cancel,
         analyses::result,
         analyses::spectra,
+        recordings::inspect,
         quasi_static::solve,
         presets::list,
         presets::get,

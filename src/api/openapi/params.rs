@@ -105,7 +105,21 @@ pub struct IfNoneMatch {
 pub struct RawAnalysisQuery {
     /// `auto` (default): small signals answered directly, large ones queued; `async`: queued.
     pub mode: Option<AnalysisMode>,
-    /// Raw body only, Hz (required there).
+    /// A recording file as the body (with `format`): its name, whose extension tells the
+    /// format (`.mat`, `.wav`, `.csv`, `.tsv`, `.f32le`, `.json`); a queued job keeps it as
+    /// its label. Without `filename` or `format` an octet-stream body is raw f32 samples.
+    pub filename: Option<String>,
+    /// A recording file as the body: its format (`mat`, `wav`, `csv`, `tsv`, `f32le`,
+    /// `json`), when the file name does not tell.
+    pub format: Option<String>,
+    /// A recording file: the channel to analyse, by name or 0-based index (required when
+    /// the file holds several; `POST /v1/recordings/inspect` lists them).
+    pub channel: Option<String>,
+    /// Not yet taken over HTTP (422): order tracking by a tachometer channel is on the
+    /// command line (`bearing-sim analyze --tacho-channel`).
+    pub tacho_channel: Option<String>,
+    /// Raw body, Hz (required there); a recording file only when it carries none (a WAV
+    /// header, a CSV time column or a MAT-file's `fs` variable do; a different value is a 422).
     #[param(exclusive_minimum = 0.0)]
     pub sample_rate: Option<f64>,
     /// Raw body only; a kinematic preset (`cwru6205`, `h7005c`).
@@ -121,7 +135,8 @@ pub struct RawAnalysisQuery {
     pub contact_angle: Option<f64>,
     /// Raw body only; shaft frequency, Hz (or shaft_rpm).
     pub shaft_hz: Option<f64>,
-    /// Raw body only; shaft speed, rev/min.
+    /// Raw body, or a recording file that carries no speed (CWRU's `XnnnRPM` is read);
+    /// shaft speed, rev/min.
     pub shaft_rpm: Option<f64>,
     /// Raw body only; DTCWT levels.
     #[param(minimum = 0, maximum = 1000)]
@@ -218,4 +233,30 @@ pub struct SimulationPlotQuery {
     /// `spectrum.svg`: highest frequency drawn, Hz (default 3.5 x BPFI).
     #[param(exclusive_minimum = 0.0)]
     pub fmax: Option<f64>,
+}
+
+/// A recording file to list.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Query)]
+#[allow(dead_code)] // documents the query the handler reads
+pub struct InspectQuery {
+    /// The file's name; its extension tells the format (`.mat`, `.wav`, `.csv`, `.tsv`,
+    /// `.f32le`, `.json`).
+    pub filename: Option<String>,
+    /// The format, when the file name does not tell: `mat`, `wav`, `csv`, `tsv`, `f32le`, `json`.
+    pub format: Option<String>,
+    /// Up to this many samples of each channel in the listing (every k-th), to plot it.
+    #[param(minimum = 0, maximum = 10000)]
+    pub preview: Option<usize>,
+}
+
+/// The format of a run exported as a recording.
+#[derive(IntoParams)]
+#[into_params(parameter_in = Query)]
+#[allow(dead_code)] // documents the query the handler reads
+pub struct RecordingExportQuery {
+    /// `wav` (32-bit float), `csv` (a time column and a named header) or `mat` (level-5
+    /// MAT-file with `fs`).
+    #[param(example = "mat")]
+    pub format: String,
 }

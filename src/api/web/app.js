@@ -374,50 +374,114 @@ async function newView(gen) {
 }
 
 // ---------------------------------------------------------------- upload a recording
+// The file goes to the service's one reader: listed first (POST /v1/recordings/inspect),
+// so the channels, sample rate and shaft speed the file carries are shown and a channel is
+// chosen, with a time plot of it; then uploaded as it is (POST /v1/analyses?filename=...).
+
+const RECORDING_TYPES = ".mat,.wav,.csv,.tsv,.tab,.txt,.f32le,.f32,.raw,.bin,.json";
+const PREVIEW_POINTS = 2000;
 
 async function uploadView() {
   const form = h("form", { id: "upload-form" });
   const status = h("p", { id: "upload-status", "aria-live": "polite" });
+  const about = h("p", { id: "recording-about", class: "muted" });
+  const preview = h("div", { id: "recording-preview" });
+  const previewBox = h("div", { class: "plot", hidden: true }, h("h3", {}, "The chosen channel"), preview);
+  const field = (path, label, input) =>
+    h("div", { class: "field", "data-path": path }, h("label", { for: input.id }, label), input, h("div", { class: "error" }));
+  const channel = h("select", { id: "channel" });
   form.append(
     h("div", { class: "grid" },
-      h("div", { class: "field" }, h("label", { for: "file" }, "Signal file (f32 little-endian, CSV or JSON array)"), h("input", { id: "file", type: "file", required: true })),
-      h("div", { class: "field", "data-path": "sample_rate" }, h("label", { for: "fs" }, "Sample rate (Hz)"), h("input", { id: "fs", type: "number", step: "any", value: 12000, required: true }), h("div", { class: "error" })),
-      h("div", { class: "field", "data-path": "shaft_rpm" }, h("label", { for: "rpm" }, "Shaft speed (rev/min)"), h("input", { id: "rpm", type: "number", step: "any", value: 1797, required: true }), h("div", { class: "error" })),
+      field("file", "Recording (.mat, .wav, .csv/.tsv, f32 little-endian, JSON array)", h("input", { id: "file", type: "file", accept: RECORDING_TYPES, required: true })),
+      field("channel", "Channel", channel),
+      field("sample_rate", "Sample rate (Hz)", h("input", { id: "fs", type: "number", step: "any" })),
+      field("shaft_rpm", "Shaft speed (rev/min)", h("input", { id: "rpm", type: "number", step: "any" })),
       h("div", { class: "field" }, h("label", { for: "bearing" }, "Bearing"), h("select", { id: "bearing" }, ["cwru6205", "h7005c"].map((b) => h("option", { value: b }, b)))),
-      h("div", { class: "field", "data-path": "options.kurtogram_levels" }, h("label", { for: "kurtogram" }, "Kurtogram levels (blank: none)"), h("input", { id: "kurtogram", type: "number", min: 1, max: 12, step: 1 }), h("div", { class: "error" }))),
+      field("kurtogram_levels", "Kurtogram levels (blank: none)", h("input", { id: "kurtogram", type: "number", min: 1, max: 12, step: 1 }))),
+    about, previewBox,
     h("p", {}, h("button", { type: "submit", class: "primary" }, "Analyse")), status);
-  form.addEventListener("submit", async (ev) => {
-    ev.preventDefault();
-    const file = form.querySelector("#file").files[0];
-    if (!file) { status.textContent = "Choose a file first."; return; }
-    const fs = Number(form.querySelector("#fs").value), rpm = Number(form.querySelector("#rpm").value);
-    const preset = form.querySelector("#bearing").value;
-    const kl = form.querySelector("#kurtogram").value;
-    const options = kl ? { kurtogram_levels: Number(kl) } : undefined;
-    const name = file.name.toLowerCase();
-    let r;
-    status.textContent = "Uploading…";
-    if (name.endsWith(".csv") || name.endsWith(".json") || name.endsWith(".txt")) {
-      const text = await file.text();
-      const samples = name.endsWith(".json") ? JSON.parse(text) : text.split(/[\s,;]+/).filter(Boolean).map(Number);
-      r = await api("/v1/analyses?mode=async", { method: "POST", headers: { "Content-Type": "application/json" },
-        body: JSON.stringify({ samples, sample_rate: fs, preset, shaft_rpm: rpm, options }) });
-    } else {
-      const q = new URLSearchParams({ mode: "async", sample_rate: fs, shaft_rpm: rpm, preset });
-      if (kl) q.set("kurtogram_levels", kl);
-      r = await api(`/v1/analyses?${q}`, { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: await file.arrayBuffer() });
-    }
-    if (r.status === 202 || r.status === 200) { location.hash = `#/analyses/${r.body.id}`; return; }
+  const fileInput = form.querySelector("#file"), fsInput = form.querySelector("#fs"), rpmInput = form.querySelector("#rpm");
+  let listing = null, previews = [];
+
+  const clearErrors = () => form.querySelectorAll(".field.invalid").forEach((b) => {
+    b.classList.remove("invalid"); b.querySelector(".error").textContent = "";
+  });
+  const showProblem = (r) => {
     status.textContent = r.body.detail || `refused (${r.status})`;
     for (const e of r.body.errors || []) {
-      // raw uploads name options by their query parameter, JSON ones as options.<name>
+      // uploads name options by their query parameter, JSON ones as options.<name>
       const box = form.querySelector(`.field[data-path="${CSS.escape(e.path)}"]`)
-        || form.querySelector(`.field[data-path="options.${CSS.escape(e.path)}"]`);
+        || form.querySelector(`.field[data-path="${CSS.escape(e.path.replace(/^options\./, ""))}"]`);
       if (box) { box.classList.add("invalid"); box.querySelector(".error").textContent = e.message; }
     }
+  };
+  const plotChannel = () => {
+    const c = listing && listing.channels[Number(channel.value)];
+    const y = c && previews[c.index];
+    previewBox.hidden = !(y && y.length);
+    if (previewBox.hidden) return;
+    const rate = listing.sample_rate ? listing.sample_rate.value : Number(fsInput.value) || null;
+    const step = c.samples / y.length;
+    const x = y.map((_, k) => (rate ? (k * step) / rate : k * step));
+    lineChart(preview, { x, y, xLabel: rate ? "time (s)" : "sample", yLabel: c.unit ? `${c.name} (${c.unit})` : c.name });
+  };
+  channel.addEventListener("change", plotChannel);
+  fsInput.addEventListener("change", plotChannel);
+
+  fileInput.addEventListener("change", async () => {
+    clearErrors();
+    listing = null; previews = [];
+    channel.replaceChildren();
+    about.textContent = ""; previewBox.hidden = true;
+    const file = fileInput.files[0];
+    if (!file) return;
+    status.textContent = "Reading the file…";
+    const q = new URLSearchParams({ filename: file.name, preview: PREVIEW_POINTS });
+    const r = await api(`/v1/recordings/inspect?${q}`, { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: await file.arrayBuffer() });
+    if (r.status !== 200) { showProblem(r); return; }
+    status.textContent = "";
+    listing = r.body;
+    previews = listing.channels.map((c) => c.preview || []);
+    for (const c of listing.channels) {
+      const text = `${c.index}: ${c.name} (${c.samples} samples${c.unit ? `, ${c.unit}` : ""})`;
+      channel.append(h("option", { value: c.index }, text));
+    }
+    const rate = listing.sample_rate, speed = listing.shaft_rpm;
+    // what the file carries fills the fields; what it lacks is left as the user typed it
+    if (rate) fsInput.value = rate.value;
+    fsInput.placeholder = rate ? "" : "not in the file: required";
+    if (speed) rpmInput.value = speed.value;
+    rpmInput.placeholder = speed ? "" : "not in the file: required";
+    about.textContent = [
+      `${listing.format} file, ${listing.channels.length} channel${listing.channels.length === 1 ? "" : "s"}`,
+      rate ? `sample rate ${fmt(rate.value)} Hz (${rate.from})` : "no sample rate in the file",
+      speed ? `shaft speed ${fmt(speed.value)} rev/min (${speed.from})` : "no shaft speed in the file",
+      ...listing.skipped.map((s) => `skipped ${s.name}: ${s.reason}`),
+    ].join("; ");
+    plotChannel();
+  });
+
+  form.addEventListener("submit", async (ev) => {
+    ev.preventDefault();
+    clearErrors();
+    const file = fileInput.files[0];
+    if (!file) { status.textContent = "Choose a file first."; return; }
+    const q = new URLSearchParams({ mode: "async", filename: file.name, preset: form.querySelector("#bearing").value });
+    if (channel.value !== "") q.set("channel", channel.value);
+    const fromFile = (s) => s && listing && listing[s];
+    if (fsInput.value && !fromFile("sample_rate")) q.set("sample_rate", fsInput.value);
+    if (rpmInput.value && !(fromFile("shaft_rpm") && Number(rpmInput.value) === listing.shaft_rpm.value)) {
+      q.set("shaft_rpm", rpmInput.value);
+    }
+    const kl = form.querySelector("#kurtogram").value;
+    if (kl) q.set("kurtogram_levels", kl);
+    status.textContent = "Uploading…";
+    const r = await api(`/v1/analyses?${q}`, { method: "POST", headers: { "Content-Type": "application/octet-stream" }, body: await file.arrayBuffer() });
+    if (r.status === 202 || r.status === 200) { location.hash = `#/analyses/${r.body.id}`; return; }
+    showProblem(r);
   });
   view.replaceChildren(h("h2", {}, "Analyse a recording"),
-    h("p", { class: "muted" }, "The envelope spectrum and the DTCWT components of a measured signal, with the bearing's fault frequencies."), form);
+    h("p", { class: "muted" }, "The envelope spectrum and the DTCWT components of a measured signal, with the bearing's fault frequencies. The file's channels are listed before it is analysed."), form);
 }
 
 // ---------------------------------------------------------------- one job

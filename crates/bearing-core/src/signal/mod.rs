@@ -14,7 +14,8 @@
 //! - [`impulsiveness`]: whether a band's signal is impulsive (a defect strikes);
 //! - [`summary`]: the verdict in one plain sentence;
 //! - [`order_tracking`]: analysis at varying speed, resampled to constant shaft angle;
-//! - [`io`]: reading signals from raw f32le, CSV or JSON;
+//! - [`recording`]: measured recordings (MAT-file, WAV, CSV/TSV, raw f32, JSON) read, listed
+//!   and written, and the shaft angle from a tachometer channel or a speed profile;
 //! - [`shaft_angle`]: the shaft's angle per sample, for order tracking.
 
 pub mod dtcwt;
@@ -45,4 +46,4 @@ pub use frequencies::{
 pub use order_tracking::analyze_tracked;
 pub use order_tracking_report::OrderTracking;
 pub use shaft_angle::ShaftAngle;
-pub mod io;
+pub mod recording;
