@@ -107,7 +107,14 @@ pub fn analyze_simulation(
         let (i0, i1) = window_samples(o.window, fs, ch.data.len());
         let theory = characteristic_frequencies(&geometry, shaft_hz);
         let highest = (o.verdict_harmonics as f64 + 0.5) * theory.bpfi.max(theory.bpfo);
-        if i1 > i0 + 1 && angle_speed_varies(&angle.radians()[i0..i1], fs, highest) {
+        let within = &angle.radians()[i0..i1];
+        // order tracking needs a revolution; a shorter window (a run of a few
+        // milliseconds) is analysed at its mean speed, as it always was
+        let turns = within
+            .last()
+            .zip(within.first())
+            .map_or(0.0, |(b, a)| (b - a) / TAU);
+        if i1 > i0 + 1 && turns >= 1.0 && angle_speed_varies(within, fs, highest) {
             return analyze_tracked(&ch.data, fs, &geometry, &angle, &o, None, LevelSpectra::All);
         }
     }
@@ -271,6 +278,55 @@ mod tests {
         // rpm: 16.67 rev. The profile is integrated exactly, so only rounding remains.
         assert!((angle.revolutions() - (5_500.0 * 0.2 + 10_000.0 * 0.1) / 60.0).abs() < 1e-9);
         assert_eq!(angle.radians()[0], 0.0);
+    }
+
+    /// A run shorter than a revolution inside its ramp (a study's few-millisecond point)
+    /// cannot be order tracked; it is analysed at its mean speed, not refused.
+    #[test]
+    fn a_window_under_one_revolution_in_the_ramp_is_analysed_at_its_mean_speed() {
+        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
+        scene.operating.speed = crate::scene::SpeedProfile {
+            initial_rpm: 1_000.0,
+            steady_rpm: 10_000.0,
+            ramp_time: 0.1,
+        };
+        // a 30 ms point of a study on the Table-1 scene
+        scene.solver.duration = 0.03;
+        let fs = 400_000.0;
+        let data: Vec<f64> = (0..12_001).map(|i| (i as f64 * 0.37).sin()).collect();
+        let result = SimResult {
+            summary: Summary {
+                steady_window: steady_window(0.1, 0.03),
+                mean_shaft_speed: 1_300.0 * TAU / 60.0,
+                ..Summary::default()
+            },
+            channels: Channels {
+                sample_rate: fs,
+                start_time: 0.0,
+                channels: vec![Channel {
+                    name: "outer_ring_accel_y".into(),
+                    unit: "m/s^2".into(),
+                    data,
+                }],
+            },
+        };
+        // the whole run turns more than once (so it has a shaft angle), its window less
+        let angle = run_shaft_angle(&result, &scene).unwrap();
+        let [w0, w1] = result.summary.steady_window;
+        let (i0, i1) = ((w0 * fs) as usize, (w1 * fs) as usize);
+        let turns = (angle.radians()[i1.min(12_000)] - angle.radians()[i0]) / TAU;
+        assert!(
+            angle.revolutions() > 1.0 && turns < 1.0,
+            "{turns} revolutions"
+        );
+        let out = analyze_simulation(
+            &result,
+            &scene,
+            "outer_ring_accel_y",
+            &AnalysisOptions::default(),
+        )
+        .unwrap();
+        assert!(out.report.order_tracking.is_none());
     }
 
     #[test]
