@@ -90,6 +90,7 @@ rev/min, `*_hz`: Hz, `*_pct`: %, `*_db`: dB).
         schemas(
             super::problem::Problem,
             params::AnalysisMode,
+            params::RecordingExportFormat,
             crate::store::JobState,
             super::results::SpectrumKind,
         ),

@@ -258,5 +258,15 @@ pub struct RecordingExportQuery {
     /// `wav` (32-bit float), `csv` (a time column and a named header) or `mat` (level-5
     /// MAT-file with `fs`).
     #[param(example = "mat")]
-    pub format: String,
+    pub format: RecordingExportFormat,
+}
+
+/// The file formats a run exports to.
+#[derive(serde::Serialize, utoipa::ToSchema)]
+#[serde(rename_all = "snake_case")]
+#[allow(dead_code)] // documents the values `format` accepts
+pub enum RecordingExportFormat {
+    Wav,
+    Csv,
+    Mat,
 }
