@@ -220,6 +220,34 @@ mod tests {
     use crate::dynamics::window::steady_window;
     use crate::simulation::{Channel, Channels, Summary};
 
+    /// The H7005C preset run up from 1000 to 10000 rpm over `ramp` s, simulated `duration` s.
+    fn run_up_scene(ramp: f64, duration: f64) -> Scene {
+        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
+        scene.operating.speed = crate::scene::SpeedProfile {
+            initial_rpm: 1_000.0,
+            steady_rpm: 10_000.0,
+            ramp_time: ramp,
+        };
+        scene.solver.duration = duration;
+        scene
+    }
+
+    /// A result holding one channel, `outer_ring_accel_y`, sampled at `fs` Hz from t = 0.
+    fn accel_y_result(fs: f64, data: Vec<f64>, summary: Summary) -> SimResult {
+        SimResult {
+            summary,
+            channels: Channels {
+                sample_rate: fs,
+                start_time: 0.0,
+                channels: vec![Channel {
+                    name: "outer_ring_accel_y".into(),
+                    unit: "m/s^2".into(),
+                    data,
+                }],
+            },
+        }
+    }
+
     #[test]
     fn frequencies_compare_the_cage_with_both_kinematics() {
         let scene = crate::scene::preset_scene("h7005c").unwrap();
@@ -253,26 +281,9 @@ mod tests {
 
     #[test]
     fn a_runs_shaft_angle_integrates_its_speed_ramp() {
-        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
-        scene.operating.speed = crate::scene::SpeedProfile {
-            initial_rpm: 1_000.0,
-            steady_rpm: 10_000.0,
-            ramp_time: 0.2,
-        };
-        scene.solver.duration = 0.3;
+        let scene = run_up_scene(0.2, 0.3);
         let fs = 10_000.0;
-        let result = SimResult {
-            summary: Summary::default(),
-            channels: Channels {
-                sample_rate: fs,
-                start_time: 0.0,
-                channels: vec![Channel {
-                    name: "outer_ring_accel_y".into(),
-                    unit: "m/s^2".into(),
-                    data: vec![0.0; 3_001],
-                }],
-            },
-        };
+        let result = accel_y_result(fs, vec![0.0; 3_001], Summary::default());
         let angle = run_shaft_angle(&result, &scene).unwrap();
         // 1000 -> 10000 rpm over 0.2 s averages 5500 rpm: 18.33 rev; then 0.1 s at 10000
         // rpm: 16.67 rev. The profile is integrated exactly, so only rounding remains.
@@ -284,32 +295,19 @@ mod tests {
     /// cannot be order tracked; it is analysed at its mean speed, not refused.
     #[test]
     fn a_window_under_one_revolution_in_the_ramp_is_analysed_at_its_mean_speed() {
-        let mut scene = crate::scene::preset_scene("h7005c").unwrap();
-        scene.operating.speed = crate::scene::SpeedProfile {
-            initial_rpm: 1_000.0,
-            steady_rpm: 10_000.0,
-            ramp_time: 0.1,
-        };
         // a 30 ms point of a study on the Table-1 scene
-        scene.solver.duration = 0.03;
+        let scene = run_up_scene(0.1, 0.03);
         let fs = 400_000.0;
         let data: Vec<f64> = (0..12_001).map(|i| (i as f64 * 0.37).sin()).collect();
-        let result = SimResult {
-            summary: Summary {
+        let result = accel_y_result(
+            fs,
+            data,
+            Summary {
                 steady_window: steady_window(0.1, 0.03),
                 mean_shaft_speed: 1_300.0 * TAU / 60.0,
                 ..Summary::default()
             },
-            channels: Channels {
-                sample_rate: fs,
-                start_time: 0.0,
-                channels: vec![Channel {
-                    name: "outer_ring_accel_y".into(),
-                    unit: "m/s^2".into(),
-                    data,
-                }],
-            },
-        };
+        );
         // the whole run turns more than once (so it has a shaft angle), its window less
         let angle = run_shaft_angle(&result, &scene).unwrap();
         let [w0, w1] = result.summary.steady_window;
@@ -345,21 +343,14 @@ mod tests {
                 }
             })
             .collect();
-        let result = SimResult {
-            summary: Summary {
+        let result = accel_y_result(
+            fs,
+            data,
+            Summary {
                 steady_window: steady_window(0.2, 1.2),
                 ..Summary::default()
             },
-            channels: Channels {
-                sample_rate: fs,
-                start_time: 0.0,
-                channels: vec![Channel {
-                    name: "outer_ring_accel_y".into(),
-                    unit: "m/s^2".into(),
-                    data,
-                }],
-            },
-        };
+        );
         let out = analyze_simulation(
             &result,
             &scene,
