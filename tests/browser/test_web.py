@@ -337,7 +337,7 @@ def run(page, base, shots, console_errors):
         # issue 36: the page lists a file's channels (through the API's reader) before it
         # uploads it, plots the chosen one, and the job keeps the file's name
         for name, channel, fs in [("cwru_ir007.mat", "0", "12000"), ("ir007_pcm16.wav", "0", None),
-                                  ("ir007.csv", "0", None)]:
+                                  ("ir007_float.wav", "0", None), ("ir007.csv", "0", None)]:
             page.goto(f"{base}/#/upload")
             page.set_input_files("#file", str(RECORDINGS / name))
             expect(page.locator("#recording-about")).to_contain_text("channel")
@@ -490,7 +490,7 @@ def run(page, base, shots, console_errors):
     check("a named run", a_named_short_run_to_compare)
     check("two jobs overlaid and side by side", two_jobs_overlaid)
     check("a study started from the page, its table and trend plots", a_study_started_from_the_page)
-    check("recording files (.mat, WAV, CSV): channels listed, inner race named", recording_files_list_their_channels_and_name_the_inner_race)
+    check("recording files (.mat, PCM and float WAV, CSV): channels listed, inner race named", recording_files_list_their_channels_and_name_the_inner_race)
     check("keyboard navigation", keyboard_reaches_the_navigation)
     check("no page scrolls sideways at 420 or 360 px", narrow_windows_do_not_scroll_sideways)
     check("unreachable service", unreachable_service_says_so)
