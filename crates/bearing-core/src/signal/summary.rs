@@ -63,6 +63,18 @@ fn lines_clause(e: &FaultEvidence) -> String {
         ", {} of {} harmonics",
         e.harmonics_found, e.harmonics_searched
     );
+    let unresolved: Vec<String> = e
+        .lines
+        .iter()
+        .filter(|l| l.order == 0)
+        .filter_map(|l| {
+            l.unresolved_shaft_order
+                .map(|k| format!("{}x{name} at shaft order {k}", l.harmonic))
+        })
+        .collect();
+    if !unresolved.is_empty() {
+        s += &format!(" ({} not resolved, left out)", unresolved.join(", "));
+    }
     if e.sidebands_found > 0 {
         s += match e.fault {
             FaultType::RollingElement => ", cage sidebands",

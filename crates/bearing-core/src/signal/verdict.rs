@@ -154,6 +154,12 @@ pub struct SeriesLine {
     /// (Fisher's combination). The evidence's harmonics and sidebands found count these.
     #[serde(default)]
     pub counted: bool,
+    /// The shaft order (`k` of `k f_r`) this line is expected within the spacing tolerance
+    /// of: the line is left out of the family's test (a line the spectrum cannot tell from
+    /// a shaft line is neither found nor missing) and the next harmonic is tested instead.
+    /// Absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unresolved_shaft_order: Option<u32>,
 }
 
 /// The evidence for one fault type.
@@ -185,7 +191,8 @@ pub struct FaultEvidence {
     /// Fundamental against theory, %.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_pct: Option<f64>,
-    /// Harmonics whose line counts in the test ([`SeriesLine::counted`]), of `harmonics_searched`.
+    /// Harmonics whose line counts in the test ([`SeriesLine::counted`]), of `harmonics_searched`
+    /// (the harmonics not left out as unresolved from a shaft order).
     pub harmonics_found: usize,
     pub harmonics_searched: usize,
     /// Sidebands whose line counts in the test, of `sidebands_searched`.
@@ -240,10 +247,16 @@ struct RankedLines<'a> {
     peaks: Vec<usize>,
     /// Prominence (amplitude over local median) of each peak, same order.
     prominence: Vec<f64>,
-    /// Peaks taken out by an accepted fault type, or as shaft orders.
+    /// Peaks taken out by an accepted fault type.
     removed: Vec<bool>,
+    /// Peaks taken out as shaft orders: the order's frequency, Hz. A fault family still
+    /// reads such a line where it resolves the line as nearer to its own prediction
+    /// ([`RankedLines::best_for`]).
+    shaft: Vec<Option<f64>>,
     /// Bins within the shaft orders' windows: the lines left are ranked over the rest.
     shaft_bins: usize,
+    /// The shaft frequency whose orders were taken out, Hz (0 = none were).
+    shaft_hz: f64,
 }
 
 impl<'a> RankedLines<'a> {
@@ -266,7 +279,9 @@ impl<'a> RankedLines<'a> {
             peaks: peaks.iter().map(|p| p.0).collect(),
             prominence: peaks.iter().map(|p| p.1).collect(),
             removed: vec![false; n],
+            shaft: vec![None; n],
             shaft_bins: 0,
+            shaft_hz: 0.0,
         }
     }
 
@@ -281,21 +296,25 @@ impl<'a> RankedLines<'a> {
         if fr <= 0.0 {
             return;
         }
+        self.shaft_hz = fr;
         let f_max = self.bins as f64 * self.df();
         let orders: Vec<f64> = (1..)
             .map(|k| k as f64 * fr)
             .take_while(|&c| c < f_max)
             .collect();
-        self.remove_near(&orders);
+        let df = self.df();
+        for (i, &k) in self.peaks.iter().enumerate() {
+            let f = k as f64 * df;
+            self.shaft[i] = orders
+                .iter()
+                .copied()
+                .filter(|&c| (f - c).abs() <= tolerance(df, c))
+                .min_by(|a, b| (f - a).abs().total_cmp(&(f - b).abs()));
+        }
         for &c in &orders {
             let (lo, hi) = self.window(c);
             self.shaft_bins += (hi.min(self.bins.saturating_sub(1)) + 1).saturating_sub(lo);
         }
-    }
-
-    /// Take out every peak within the spacing tolerance of a frequency of `set` (Hz).
-    fn remove_near(&mut self, set: &[f64]) {
-        self.remove_nearer(set, &[]);
     }
 
     /// Take out every peak within the spacing tolerance of a frequency of `set` (Hz) unless
@@ -309,10 +328,16 @@ impl<'a> RankedLines<'a> {
                 .map(|&c| (f - c).abs())
                 .fold(f64::INFINITY, f64::min)
         };
-        for (i, &k) in self.peaks.iter().enumerate() {
+        for i in 0..self.peaks.len() {
+            let k = self.peaks[i];
             let f = k as f64 * df;
+            // which prediction is nearer is judged at the line's interpolated frequency:
+            // at 13 Hz bins the bin's own frequency can sit 4 Hz off (the 0.1 s compound
+            // run's 2xBPFO at 2276.4 Hz in the bin at 2280 Hz read as nearer to
+            // 24 BPFI / Z = 2292.9 Hz than to 2 BPFO = 2269.2 Hz)
+            let fi = self.frequency(k);
             if set.iter().any(|&c| (f - c).abs() <= tolerance(df, c))
-                && nearest(f, kept) + 0.5 * df >= nearest(f, set)
+                && nearest(fi, kept) + 0.5 * df >= nearest(fi, set)
             {
                 self.removed[i] = true;
             }
@@ -337,12 +362,45 @@ impl<'a> RankedLines<'a> {
         self.spectrum.df
     }
 
-    /// The best-ranked remaining line in bins `[lo, hi]`: (rank among remaining lines,
-    /// bin, index in `peaks`).
-    fn best_in(&self, lo: usize, hi: usize) -> Option<(usize, usize, usize)> {
+    /// The shaft order `k` whose line `k f_r` lies within the spacing tolerance of `f` (Hz),
+    /// if any (only once shaft orders were taken out).
+    fn shaft_order_near(&self, f: f64) -> Option<u32> {
+        let fr = self.shaft_hz;
+        if fr <= 0.0 {
+            return None;
+        }
+        let k = (f / fr).round();
+        (k >= 1.0 && (f - k * fr).abs() <= tolerance(self.df(), k * fr)).then_some(k as u32)
+    }
+
+    /// Peak `i` is neither a shaft order nor taken by an accepted fault.
+    fn remaining(&self, i: usize) -> bool {
+        !self.removed[i] && self.shaft[i].is_none()
+    }
+
+    /// Shaft-order lines in bins `[lo, hi]` nearer to `expected` (Hz) than to their order by
+    /// more than half a bin: a line goes to the prediction it resolves as nearest (over a
+    /// run-up's 18 revolutions the H7005C's 4xBPFO sits 0.08 orders from order 27, 1.4
+    /// bins, and on 4xBPFO's own bin). Indices in `peaks`, appended to `out`.
+    fn reclaim(&self, lo: usize, hi: usize, expected: f64, out: &mut Vec<usize>) {
+        let df = self.df();
+        for (i, &k) in self.peaks.iter().enumerate() {
+            if let (false, Some(c)) = (self.removed[i], self.shaft[i]) {
+                let f = k as f64 * df;
+                if (lo..=hi).contains(&k) && (f - expected).abs() + 0.5 * df < (f - c).abs() {
+                    out.push(i);
+                }
+            }
+        }
+    }
+
+    /// The best-ranked line in bins `[lo, hi]` among the remaining lines and the shaft-order
+    /// lines a family reclaimed ([`RankedLines::reclaim`]; one set for the whole family,
+    /// so its lines' ranks are one ranking): (rank, bin, index in `peaks`).
+    fn best_in(&self, lo: usize, hi: usize, reclaimed: &[usize]) -> Option<(usize, usize, usize)> {
         let mut rank = 0;
         for (i, &k) in self.peaks.iter().enumerate() {
-            if self.removed[i] {
+            if !(self.remaining(i) || reclaimed.contains(&i)) {
                 continue;
             }
             rank += 1;
@@ -485,7 +543,14 @@ fn series(
     let lo = ((base * (1.0 - search_band_pct / 100.0) / df).ceil() as usize).max(2);
     let hi = ((base * (1.0 + search_band_pct / 100.0) / df).floor() as usize)
         .min(lines.bins.saturating_sub(1));
-    let Some((rank1, k1, i1)) = (lo <= hi).then(|| lines.best_in(lo, hi)).flatten() else {
+    let mut reclaimed = Vec::new();
+    if lo <= hi {
+        lines.reclaim(lo, hi, base, &mut reclaimed);
+    }
+    let Some((_, k1, _)) = (lo <= hi)
+        .then(|| lines.best_in(lo, hi, &reclaimed))
+        .flatten()
+    else {
         return SeriesResult {
             p_value: 1.0,
             fundamental_hz: None,
@@ -499,16 +564,72 @@ fn series(
         FaultType::RollingElement => (2 * n, Some(theory.ftf * f1 / base)),
     };
     let f_max = lines.bins as f64 * df;
+    // the family's lines: (harmonic, order, expected Hz, window); the fundamental's window
+    // is the whole search band. Candidates up to twice the harmonics tested: a harmonic
+    // left out as unresolved from a shaft order is replaced by the next one.
+    let mut expected: Vec<(u32, i32, f64, (usize, usize))> = Vec::new();
+    for h in 1..=2 * n_harmonics as u32 {
+        let fh = h as f64 * f1;
+        if fh >= f_max {
+            break;
+        }
+        let w = if h == 1 { (lo, hi) } else { lines.window(fh) };
+        expected.push((h, 0, fh, w));
+        if let Some(fs) = sideband_hz {
+            for order in [-1i32, 1] {
+                let f = fh + order as f64 * fs;
+                if f <= 0.0 || f >= f_max {
+                    continue;
+                }
+                expected.push((h, order, f, lines.window(f)));
+            }
+        }
+    }
+    // Which lines are tested: a line expected within the tolerance of a shaft order is left
+    // out (unresolved: decided from the frequencies alone, not from what its window holds,
+    // so that leaving lines out cannot favour the family), and the first `n_harmonics`
+    // harmonics tested end the list. The shaft-order lines the tested lines reclaim join
+    // the ranking first, so that all the family's ranks come from one ranking.
+    let mut tested: Vec<(u32, i32, f64, (usize, usize))> = Vec::new();
     let mut out = Vec::new();
+    let mut harmonics_tested = 0;
+    for &(harmonic, order, f, (wl, wh)) in &expected {
+        if order == 0 && harmonics_tested == n_harmonics {
+            break;
+        }
+        // the fundamental is anchored over the whole search band, never left out
+        let anchor = harmonic == 1 && order == 0;
+        let unresolved = if anchor {
+            None
+        } else {
+            lines.shaft_order_near(f)
+        };
+        if let Some(k) = unresolved {
+            out.push(SeriesLine {
+                harmonic,
+                order,
+                expected_hz: f,
+                found_hz: None,
+                rank: None,
+                prominence_db: None,
+                p_value: 1.0,
+                counted: false,
+                unresolved_shaft_order: Some(k),
+            });
+            continue;
+        }
+        lines.reclaim(wl, wh, if anchor { base } else { f }, &mut reclaimed);
+        if order == 0 {
+            harmonics_tested += 1;
+        }
+        tested.push((harmonic, order, f, (wl, wh)));
+    }
     let mut log_sum = 0.0;
     // (rank of the line found in the window, or None; window width in bins) per line
     let mut windows: Vec<(Option<usize>, usize)> = Vec::new();
-    let mut push = |harmonic: u32,
-                    order: i32,
-                    expected: f64,
-                    found: Option<(usize, usize, usize)>,
-                    w: usize| {
-        let (p, found_hz, rank, prom) = match found {
+    for &(harmonic, order, f, (wl, wh)) in &tested {
+        let w = wh - wl + 1;
+        let (p, found_hz, rank, prom) = match lines.best_in(wl, wh, &reclaimed) {
             Some((r, k, i)) => (
                 lines.chance(r, w),
                 Some(lines.frequency(k)),
@@ -522,41 +643,19 @@ fn series(
         out.push(SeriesLine {
             harmonic,
             order,
-            expected_hz: expected,
+            expected_hz: f,
             found_hz,
             rank,
             prominence_db: prom,
             p_value: p,
             counted: false,
+            unresolved_shaft_order: None,
         });
-    };
-    for h in 1..=n_harmonics as u32 {
-        let fh = h as f64 * f1;
-        if fh >= f_max {
-            break;
-        }
-        if h == 1 {
-            push(1, 0, f1, Some((rank1, k1, i1)), hi - lo + 1);
-        } else {
-            let (wl, wh) = lines.window(fh);
-            push(h, 0, fh, lines.best_in(wl, wh), wh - wl + 1);
-        }
-        if let Some(fs) = sideband_hz {
-            for order in [-1i32, 1] {
-                let f = fh + order as f64 * fs;
-                if f <= 0.0 || f >= f_max {
-                    continue;
-                }
-                let (wl, wh) = lines.window(f);
-                push(h, order, f, lines.best_in(wl, wh), wh - wl + 1);
-            }
-        }
     }
-    // Two tests of the same null, each valid: Fisher's combination of the lines' own
-    // probabilities (power when the lines rank well one by one, long records) and the scan
-    // of the top lines (power when they rank at the top together, short records); the
-    // smaller, doubled (Bonferroni), keeps the rate.
-    let fisher = chi2_sf_even(-2.0 * log_sum, out.len().max(1));
+    // in the family's order: harmonic, then sideband order
+    out.sort_by_key(|l| (l.harmonic, l.order != 0, l.order));
+    let tested = tested.len();
+    let fisher = chi2_sf_even(-2.0 * log_sum, tested.max(1));
     let (scan, r_star) = top_lines_scan(&windows, lines.chance_bins());
     let p_value = (2.0 * fisher.min(scan)).min(1.0);
     for l in out.iter_mut() {
@@ -649,8 +748,10 @@ fn further_shaft_sidebands(
                 let mut count = 0;
                 for &f in lines.iter().filter(|&&f| f > 0.0 && f < f_max) {
                     let (lo, hi) = l.window(f);
+                    let mut reclaimed = Vec::new();
+                    l.reclaim(lo, hi, f, &mut reclaimed);
                     let p = l
-                        .best_in(lo, hi)
+                        .best_in(lo, hi, &reclaimed)
                         .map_or(1.0, |(r, _, _)| l.chance(r, hi - lo + 1));
                     log_sum += p.max(MIN_P).ln();
                     count += 1;
@@ -767,10 +868,10 @@ pub fn verdict(
                 .map(|l| {
                     l.peaks
                         .iter()
-                        .zip(&l.removed)
-                        .filter(|(_, &r)| !r)
+                        .enumerate()
+                        .filter(|&(i, _)| l.remaining(i))
                         .take(EXPLAIN_TOP_LINES)
-                        .filter(|(&k, _)| {
+                        .filter(|&(_, &k)| {
                             let f = k as f64 * l.df();
                             set.iter().any(|&c| (f - c).abs() <= tolerance(l.df(), c))
                         })
@@ -803,15 +904,26 @@ pub fn verdict(
             correction,
             false_alarm_rate,
         ));
-        // the theoretical harmonics of the hypotheses still open keep the lines clearly
-        // nearer to them than to anything the accepted fault predicts (at a coarse
-        // resolution the multiples of f1 / Z come within the tolerance of another
-        // family's harmonics: 0.1 s at 10000 rpm on the H7005C)
+        // the harmonics of the hypotheses still open keep the lines clearly nearer to them
+        // than to anything the accepted fault predicts (at a coarse resolution the
+        // multiples of f1 / Z come within the tolerance of another family's harmonics:
+        // 0.1 s at 10000 rpm on the H7005C). Their fundamentals as this round identified
+        // them (with the cage's slip the H7005C's 4xBPFO lies 14 Hz, a bin, from four times
+        // theory's), unless that anchor is within half a bin of a line the accepted fault
+        // predicts: then it identifies nothing (on the CWRU 6205 the rolling element's
+        // anchor at 72.0 Hz is 4 (f_r - FTF) of the inner race, 0.04 Hz away) and theory's
+        // fundamental stands in.
+        let half_bin = 0.5 * ranked.first().map_or(0.0, |l| l.df());
         let open: Vec<f64> = FaultType::ALL
             .iter()
             .filter(|f| !accepted.contains(f))
             .flat_map(|&f| {
-                let f1 = f.theory_hz(theory);
+                let f1 = round
+                    .iter()
+                    .find(|r| r.0 == f)
+                    .and_then(|r| r.1.fundamental_hz)
+                    .filter(|&a| set.iter().all(|&c| (a - c).abs() > half_bin))
+                    .unwrap_or_else(|| f.theory_hz(theory));
                 (1..=n).map(move |h| h as f64 * f1)
             })
             .collect();
@@ -837,8 +949,20 @@ fn evidence_of(
     accepted: &[FaultType],
 ) -> FaultEvidence {
     let base = fault.theory_hz(theory);
-    let harmonics: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order == 0).collect();
-    let sidebands: Vec<&SeriesLine> = r.lines.iter().filter(|l| l.order != 0).collect();
+    // lines left out as unresolved from a shaft order were not searched for
+    let tested = |l: &&SeriesLine| l.unresolved_shaft_order.is_none();
+    let harmonics: Vec<&SeriesLine> = r
+        .lines
+        .iter()
+        .filter(|l| l.order == 0)
+        .filter(tested)
+        .collect();
+    let sidebands: Vec<&SeriesLine> = r
+        .lines
+        .iter()
+        .filter(|l| l.order != 0)
+        .filter(tested)
+        .collect();
     let found = |v: &[&SeriesLine]| v.iter().filter(|l| l.counted).count();
     let spacing: Vec<f64> = match r.fundamental_hz {
         Some(f1) => harmonics
