@@ -175,34 +175,32 @@ impl ContactRheology {
         }
     }
 
-    /// `mu(s) / s` of the strip with half-chord ratio `chord` (see [`ContactRheology::film`]),
-    /// finite at s = 0, 1/(m/s).
-    ///
-    /// Arana's eq. 13 per strip, `mu = min((tau_E/p) asinh(z), Lambda)` with
-    /// `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
-    /// `c = alpha p / 2` as `mu = Lambda min(asinh(z), c) / c`: one division per strip.
+    /// The law of the strip with half-chord ratio `chord` (see [`ContactRheology::film`]):
+    /// what its `mu(s) / s` needs besides the slip. A pair of strips mirrored about the
+    /// ellipse's centre shares it, so the strip loop computes it once per pair.
+    #[inline(always)]
+    pub fn strip_law(&self, chord: f64) -> StripLaw {
+        let (pressure, viscosity, alpha) = self.film(chord);
+        // a strip at the ellipse's edge carries no load and no traction: k = 0 gives mu = 0
+        if pressure <= 0.0 {
+            return StripLaw {
+                c: 1.0,
+                k: 0.0,
+                limiting: self.limiting,
+            };
+        }
+        StripLaw {
+            c: 0.5 * alpha * pressure,
+            // z / s = eta alpha / (2 Lambda h)
+            k: viscosity * alpha * self.inv_2lambda_h,
+            limiting: self.limiting,
+        }
+    }
+
+    /// `mu(s) / s` of the strip with half-chord ratio `chord`, finite at s = 0, 1/(m/s).
     #[inline(always)]
     pub fn mu_over_s_chord(&self, chord: f64, s: f64) -> f64 {
-        let (pressure, viscosity, alpha) = self.film(chord);
-        // a strip at the ellipse's edge carries no load and no traction
-        if pressure <= 0.0 {
-            return 0.0;
-        }
-        let c = 0.5 * alpha * pressure;
-        // z / s = eta alpha / (2 Lambda h)
-        let k = viscosity * alpha * self.inv_2lambda_h;
-        let z = k * s;
-        if z < 1e-4 {
-            // asinh z / z = 1 - z^2/6 + O(z^4): slope eta / (h p) = Lambda k / c
-            return self.limiting * k * (1.0 - z * z / 6.0) / c;
-        }
-        let a = asinh_positive(z);
-        if a >= c {
-            // the film carries at most Lambda p
-            self.limiting / s
-        } else {
-            self.limiting * a / (c * s)
-        }
+        self.strip_law(chord).mu_over_s(s)
     }
 
     /// `mu(s) / s` of the strip at `xi` (fraction of the semi-major axis), 1/(m/s): the strip
@@ -216,6 +214,38 @@ impl ContactRheology {
     /// `mu(s)` of the strip at `xi`, -.
     pub fn mu(&self, xi: f64, s: f64) -> f64 {
         self.mu_over_s(xi, s) * s
+    }
+}
+
+/// [`ContactRheology`] on one strip: Arana's eq. 13, `mu = min((tau_E/p) asinh(z), Lambda)`
+/// with `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
+/// `c = alpha p / 2` as `mu = Lambda min(asinh(z), c) / c`: one division per strip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripLaw {
+    /// `alpha p / 2`, -.
+    c: f64,
+    /// `z / s = eta alpha / (2 Lambda h)`, 1/(m/s).
+    k: f64,
+    /// Limiting shear stress over pressure, -.
+    limiting: f64,
+}
+
+impl StripLaw {
+    /// `mu(s) / s`, finite at s = 0, 1/(m/s).
+    #[inline(always)]
+    pub fn mu_over_s(&self, s: f64) -> f64 {
+        let z = self.k * s;
+        if z < 1e-4 {
+            // asinh z / z = 1 - z^2/6 + O(z^4): slope eta / (h p) = Lambda k / c
+            return self.limiting * self.k * (1.0 - z * z / 6.0) / self.c;
+        }
+        let a = asinh_positive(z);
+        if a >= self.c {
+            // the film carries at most Lambda p
+            self.limiting / s
+        } else {
+            self.limiting * a / (self.c * s)
+        }
     }
 }
 
