@@ -331,7 +331,8 @@ pub fn strip_traction(
 ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
-    let a = race.hertz.a_coef * cube_root(q);
+    let q13 = cube_root(q);
+    let a = race.hertz.a_coef * q13;
     let rb = race.ball_radius;
     let a_eff = a.min(0.999 * rb);
     let rp = race.r_prime;
@@ -365,7 +366,7 @@ pub fn strip_traction(
             strips.sum(|_| (), |_, s| film.mu_over_s(0.0, s))
         }
         TractionLaw::Rheology(law) => {
-            let film = law.at(q, um);
+            let film = law.at_load(q, q13, um);
             // the film of a strip depends on its pressure, so on |xi| alone: once per pair
             strips.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s))
         }

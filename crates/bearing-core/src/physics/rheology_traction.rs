@@ -101,7 +101,8 @@ impl RheologyTraction {
     /// Central film thickness at load `q` (N) and entrainment speed `um` (m/s), m.
     ///
     /// `u^0.67 Q^-0.067` as one exponential of the two logarithms: libm's `powf` twice cost
-    /// as much as the contact's film and strip laws together.
+    /// about 250 instructions per contact, this form about half (callgrind,
+    /// docs/lab/benchmarks.md).
     #[inline]
     pub fn film_thickness(&self, q: f64, um: f64) -> f64 {
         self.h_coef * exp(0.67 * um.max(FILM_SPEED_FLOOR).ln() - 0.067 * q.ln())
@@ -110,10 +111,17 @@ impl RheologyTraction {
     /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s).
     #[inline]
     pub fn at(&self, q: f64, um: f64) -> ContactRheology {
+        self.at_load(q, cube_root(q), um)
+    }
+
+    /// [`RheologyTraction::at`] given also the load's cube root `q13 = cube_root(q)`, which
+    /// the strip loop has already computed for the ellipse's size.
+    #[inline]
+    pub fn at_load(&self, q: f64, q13: f64, um: f64) -> ContactRheology {
         let h = self.film_thickness(q, um);
         ContactRheology {
             // the strip pressures scale with p0 ~ Q / (a b) ~ Q^(1/3)
-            p_centre: self.p_strip_coef * cube_root(q),
+            p_centre: self.p_strip_coef * q13,
             h,
             inv_2lambda_h: 1.0 / (2.0 * self.limiting * h),
             ln_eta0: self.ln_eta0,
