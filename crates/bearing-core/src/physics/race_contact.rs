@@ -459,10 +459,38 @@ mod tests {
     use crate::physics::strips::StripRule;
     use crate::physics::traction::TractionCurve;
 
+    /// One fused loop over the mirror pairs in which every strip computes its own slip and
+    /// coefficient `mu_over_s(xi, s)` from its own `xi`, summed in the pairs' order.
+    fn fused_pairs(
+        sums: &StripSums,
+        mu_over_s: impl Fn(f64, f64) -> f64,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let (strips, c) = (&sums.p.strips, sums.c);
+        let n = strips.len();
+        let strip = |i: usize| {
+            let y = sums.a_eff * strips.xi[i];
+            let h = (sums.rp * sums.rp - y * y).sqrt() + sums.base;
+            let v = c[0] + h * c[1] + y * c[2];
+            let tr = (sums.q * strips.weight[i] * mu_over_s(strips.xi[i], v.norm())) * v;
+            (y, h, tr)
+        };
+        let (mut f_tr, mut f_h, mut f_y) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+        for i in 0..n.div_ceil(2) {
+            let j = n - 1 - i;
+            let (y, h, tr_plus) = strip(j);
+            let tr_minus = if i == j { Vector3::zeros() } else { strip(i).2 };
+            f_tr += tr_minus + tr_plus;
+            f_h += h * (tr_minus + tr_plus);
+            f_y += y * (tr_plus - tr_minus);
+        }
+        (f_tr, f_h, f_y)
+    }
+
     /// The strips in passes of mirror pairs give exactly the sums of one fused loop over
     /// the pairs in which every strip computes its own slip and coefficient from its own
     /// `xi` (as the loop did before the pairs), for strip counts below, at and across the
-    /// pass length, odd and even.
+    /// pass length, odd and even, both rules; under the curve and under the rheology law,
+    /// whose film the pair shares.
     #[test]
     fn passes_sum_exactly_as_one_fused_loop() {
         let curve = TractionCurve {
@@ -470,6 +498,18 @@ mod tests {
             b: 0.2,
             c: 8.0,
             d: 0.03,
+        };
+        let film = {
+            use crate::physics::rheology_traction::{roelands_z, Rheology, RheologyTraction};
+            let (rx, ep) = (2.364e-3, 2.286e11);
+            let oil = Rheology {
+                eta0: 4.44e-3,
+                alpha0: 1.5e-8,
+                z: roelands_z(4.44e-3, 1.5e-8),
+                limiting: 0.047,
+            };
+            RheologyTraction::new(ep, rx, &crate::physics::hertz::exact(rx, 20e-3, ep), &oil)
+                .at(80.0, 9.0)
         };
         // slips of 0.1-0.5 m/s across the strips, and some in the regularised zone
         let c = [
@@ -482,40 +522,29 @@ mod tests {
             Vector3::zeros(),
             Vector3::new(1.0, 0.0, 0.0),
         ];
-        for n in [1usize, 7, 8, 9, 10, 17, 200] {
-            for c in [c, slow] {
-                let p = ContactParams {
-                    strips: Strips::new(n, StripRule::Equal),
-                    damping_ratio: 0.0,
-                    ball_mass: 0.0,
-                };
-                let sums = StripSums {
-                    p: &p,
-                    a_eff: 2e-4,
-                    rp: 3.6e-3,
-                    base: -1e-4,
-                    q: 80.0,
-                    c,
-                };
-                let got = sums.sum(|_| (), |_, s| curve.mu_over_s(s));
-                let (mut f_tr, mut f_h, mut f_y) =
-                    (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
-                let strip = |i: usize| {
-                    let y = sums.a_eff * p.strips.xi[i];
-                    let h = (sums.rp * sums.rp - y * y).sqrt() + sums.base;
-                    let v = c[0] + h * c[1] + y * c[2];
-                    let tr = (sums.q * p.strips.weight[i] * curve.mu_over_s(v.norm())) * v;
-                    (y, h, tr)
-                };
-                for i in 0..n.div_ceil(2) {
-                    let j = n - 1 - i;
-                    let (y, h, tr_plus) = strip(j);
-                    let tr_minus = if i == j { Vector3::zeros() } else { strip(i).2 };
-                    f_tr += tr_minus + tr_plus;
-                    f_h += h * (tr_minus + tr_plus);
-                    f_y += y * (tr_plus - tr_minus);
+        for rule in [StripRule::Equal, StripRule::Gauss] {
+            for n in [1usize, 7, 8, 9, 10, 17, 200] {
+                for c in [c, slow] {
+                    let p = ContactParams {
+                        strips: Strips::new(n, rule),
+                        damping_ratio: 0.0,
+                        ball_mass: 0.0,
+                    };
+                    let sums = StripSums {
+                        p: &p,
+                        a_eff: 2e-4,
+                        rp: 3.6e-3,
+                        base: -1e-4,
+                        q: 80.0,
+                        c,
+                    };
+                    let got = sums.sum(|_| (), |_, s| curve.mu_over_s(s));
+                    let want = fused_pairs(&sums, |_, s| curve.mu_over_s(s));
+                    assert_eq!(got, want, "curve, {rule:?} {n} strips");
+                    let got = sums.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s));
+                    let want = fused_pairs(&sums, |xi, s| film.mu_over_s(xi, s));
+                    assert_eq!(got, want, "rheology, {rule:?} {n} strips");
                 }
-                assert_eq!(got, (f_tr, f_h, f_y), "{n} strips");
             }
         }
     }
