@@ -331,7 +331,8 @@ pub fn strip_traction(
 ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
-    let a = race.hertz.a_coef * cube_root(q);
+    let q13 = cube_root(q);
+    let a = race.hertz.a_coef * q13;
     let rb = race.ball_radius;
     let a_eff = a.min(0.999 * rb);
     let rp = race.r_prime;
@@ -359,14 +360,15 @@ pub fn strip_traction(
     };
     // (matched on the pair's law, so the curve builds no per-contact state)
     let (f_tr, f_h, f_y) = match &race.traction {
-        TractionLaw::Curve(curve) => strips.sum(|_, s| curve.mu_over_s(s)),
+        TractionLaw::Curve(curve) => strips.sum(|_| (), |_, s| curve.mu_over_s(s)),
         TractionLaw::Film(law) => {
             let film = law.at(q, um);
-            strips.sum(|_, s| film.mu_over_s(0.0, s))
+            strips.sum(|_| (), |_, s| film.mu_over_s(0.0, s))
         }
         TractionLaw::Rheology(law) => {
-            let film = law.at(q, um);
-            strips.sum(|xi, s| film.mu_over_s(xi, s))
+            let film = law.at_load(q, q13, um);
+            // the film of a strip depends on its pressure, so on |xi| alone: once per pair
+            strips.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s))
         }
     };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
@@ -387,55 +389,64 @@ struct StripSums<'a> {
     c: [Vector3<f64>; 3],
 }
 
-/// Strips per pass of [`StripSums::sum`]: its stack arrays' length.
-const STRIP_CHUNK: usize = 8;
+/// Mirror pairs of strips per pass of [`StripSums::sum`]: its stack arrays' length.
+const PAIR_CHUNK: usize = 4;
 
 impl StripSums<'_> {
     /// Sum of the strip tractions on the ball and their first moments in h and y (eqs. 9-16).
     ///
-    /// In passes of up to [`STRIP_CHUNK`] strips, each in three loops: the slips and their
-    /// speeds, the traction coefficients, the sums. The strips are independent until they
-    /// are summed, so the processor overlaps their square roots, exponentials and
-    /// divisions, which in one fused loop waited on each other around the call into libm.
-    /// Each strip's arithmetic and the order of the sums are unchanged: the result is
-    /// bit-identical to the fused loop.
+    /// Pair by pair (`Strips::pairs`): the strips at `-y` and `+y` share their distance `h`
+    /// from the ball centre, so their slips are `c0 + h c1 -+ y c2`, and whatever the law
+    /// computes from `|xi|` alone (`pair_law`, given the pair's half-chord ratio) is
+    /// computed once for both. In passes of up to [`PAIR_CHUNK`] pairs, each in three
+    /// loops: the slips and their speeds, the traction coefficients, the sums. The strips
+    /// are independent until they are summed, so the processor overlaps their square roots,
+    /// exponentials and divisions, which in one fused loop waited on each other around the
+    /// calls into libm. Each strip's slip and coefficient are those of the strip alone; the
+    /// sums take a pair's tractions together (`sum tr`, `h sum tr`, `y (tr+ - tr-)`).
     #[inline(always)]
-    fn sum(
+    fn sum<L: Copy>(
         &self,
-        mu_over_s: impl Fn(f64, f64) -> f64,
+        pair_law: impl Fn(f64) -> L,
+        mu_over_s: impl Fn(L, f64) -> f64,
     ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
         let [c0, c1, c2] = self.c;
         let mut f_tr = Vector3::zeros();
         let mut f_h = Vector3::zeros();
         let mut f_y = Vector3::zeros();
-        let strips = &self.p.strips;
-        for (xi, weight) in strips
-            .xi
-            .chunks(STRIP_CHUNK)
-            .zip(strips.weight.chunks(STRIP_CHUNK))
-        {
-            let n = xi.len().min(weight.len());
-            let mut h = [0.0; STRIP_CHUNK];
-            let mut y = [0.0; STRIP_CHUNK];
-            let mut v = [Vector3::zeros(); STRIP_CHUNK];
-            let mut speed = [0.0; STRIP_CHUNK];
-            for k in 0..n {
-                y[k] = self.a_eff * xi[k];
+        for pass in self.p.strips.pairs.chunks(PAIR_CHUNK) {
+            let mut h = [0.0; PAIR_CHUNK];
+            let mut y = [0.0; PAIR_CHUNK];
+            let mut v_minus = [Vector3::zeros(); PAIR_CHUNK];
+            let mut v_plus = [Vector3::zeros(); PAIR_CHUNK];
+            let mut s_minus = [0.0; PAIR_CHUNK];
+            let mut s_plus = [0.0; PAIR_CHUNK];
+            for (k, pair) in pass.iter().enumerate() {
+                y[k] = self.a_eff * pair.xi;
                 // eq. 9: strip position relative to the ball centre
                 h[k] = (self.rp * self.rp - y[k] * y[k]).sqrt() + self.base;
-                v[k] = c0 + h[k] * c1 + y[k] * c2;
-                speed[k] = v[k].norm();
+                let centre = c0 + h[k] * c1;
+                let across = y[k] * c2;
+                v_minus[k] = centre - across;
+                v_plus[k] = centre + across;
+                s_minus[k] = v_minus[k].norm();
+                s_plus[k] = v_plus[k].norm();
             }
             // eqs. 13-16: traction on the ball along the slip of the ring relative to the ball
-            let mut g = [0.0; STRIP_CHUNK];
-            for k in 0..n {
-                g[k] = self.q * weight[k] * mu_over_s(xi[k], speed[k]);
+            let mut g_minus = [0.0; PAIR_CHUNK];
+            let mut g_plus = [0.0; PAIR_CHUNK];
+            for (k, pair) in pass.iter().enumerate() {
+                let law = pair_law(pair.chord);
+                g_minus[k] = self.q * pair.weight_minus * mu_over_s(law, s_minus[k]);
+                g_plus[k] = self.q * pair.weight_plus * mu_over_s(law, s_plus[k]);
             }
-            for k in 0..n {
-                let tr = g[k] * v[k];
+            for k in 0..pass.len() {
+                let tr_minus = g_minus[k] * v_minus[k];
+                let tr_plus = g_plus[k] * v_plus[k];
+                let tr = tr_minus + tr_plus;
                 f_tr += tr;
                 f_h += h[k] * tr;
-                f_y += y[k] * tr;
+                f_y += y[k] * (tr_plus - tr_minus);
             }
         }
         (f_tr, f_h, f_y)
@@ -448,8 +459,38 @@ mod tests {
     use crate::physics::strips::StripRule;
     use crate::physics::traction::TractionCurve;
 
-    /// The strips in passes give exactly the sums of one fused loop over them (the loop
-    /// as it was before the passes), for strip counts below, at and across the pass length.
+    /// One fused loop over the mirror pairs in which every strip computes its own slip and
+    /// coefficient `mu_over_s(xi, s)` from its own `xi`, summed in the pairs' order.
+    fn fused_pairs(
+        sums: &StripSums,
+        mu_over_s: impl Fn(f64, f64) -> f64,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let (strips, c) = (&sums.p.strips, sums.c);
+        let n = strips.len();
+        let strip = |i: usize| {
+            let y = sums.a_eff * strips.xi[i];
+            let h = (sums.rp * sums.rp - y * y).sqrt() + sums.base;
+            let v = c[0] + h * c[1] + y * c[2];
+            let tr = (sums.q * strips.weight[i] * mu_over_s(strips.xi[i], v.norm())) * v;
+            (y, h, tr)
+        };
+        let (mut f_tr, mut f_h, mut f_y) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+        for i in 0..n.div_ceil(2) {
+            let j = n - 1 - i;
+            let (y, h, tr_plus) = strip(j);
+            let tr_minus = if i == j { Vector3::zeros() } else { strip(i).2 };
+            f_tr += tr_minus + tr_plus;
+            f_h += h * (tr_minus + tr_plus);
+            f_y += y * (tr_plus - tr_minus);
+        }
+        (f_tr, f_h, f_y)
+    }
+
+    /// The strips in passes of mirror pairs give exactly the sums of one fused loop over
+    /// the pairs in which every strip computes its own slip and coefficient from its own
+    /// `xi` (as the loop did before the pairs), for strip counts below, at and across the
+    /// pass length, odd and even, both rules; under the curve and under the rheology law,
+    /// whose film the pair shares.
     #[test]
     fn passes_sum_exactly_as_one_fused_loop() {
         let curve = TractionCurve {
@@ -457,6 +498,18 @@ mod tests {
             b: 0.2,
             c: 8.0,
             d: 0.03,
+        };
+        let film = {
+            use crate::physics::rheology_traction::{roelands_z, Rheology, RheologyTraction};
+            let (rx, ep) = (2.364e-3, 2.286e11);
+            let oil = Rheology {
+                eta0: 4.44e-3,
+                alpha0: 1.5e-8,
+                z: roelands_z(4.44e-3, 1.5e-8),
+                limiting: 0.047,
+            };
+            RheologyTraction::new(ep, rx, &crate::physics::hertz::exact(rx, 20e-3, ep), &oil)
+                .at(80.0, 9.0)
         };
         // slips of 0.1-0.5 m/s across the strips, and some in the regularised zone
         let c = [
@@ -469,34 +522,29 @@ mod tests {
             Vector3::zeros(),
             Vector3::new(1.0, 0.0, 0.0),
         ];
-        for n in [1usize, 7, 8, 9, 17, 200] {
-            for c in [c, slow] {
-                let p = ContactParams {
-                    strips: Strips::new(n, StripRule::Equal),
-                    damping_ratio: 0.0,
-                    ball_mass: 0.0,
-                };
-                let sums = StripSums {
-                    p: &p,
-                    a_eff: 2e-4,
-                    rp: 3.6e-3,
-                    base: -1e-4,
-                    q: 80.0,
-                    c,
-                };
-                let got = sums.sum(|_, s| curve.mu_over_s(s));
-                let (mut f_tr, mut f_h, mut f_y) =
-                    (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
-                for (&xi, &w) in p.strips.xi.iter().zip(&p.strips.weight) {
-                    let y = sums.a_eff * xi;
-                    let h = (sums.rp * sums.rp - y * y).sqrt() + sums.base;
-                    let v = c[0] + h * c[1] + y * c[2];
-                    let tr = (sums.q * w * curve.mu_over_s(v.norm())) * v;
-                    f_tr += tr;
-                    f_h += h * tr;
-                    f_y += y * tr;
+        for rule in [StripRule::Equal, StripRule::Gauss] {
+            for n in [1usize, 7, 8, 9, 10, 17, 200] {
+                for c in [c, slow] {
+                    let p = ContactParams {
+                        strips: Strips::new(n, rule),
+                        damping_ratio: 0.0,
+                        ball_mass: 0.0,
+                    };
+                    let sums = StripSums {
+                        p: &p,
+                        a_eff: 2e-4,
+                        rp: 3.6e-3,
+                        base: -1e-4,
+                        q: 80.0,
+                        c,
+                    };
+                    let got = sums.sum(|_| (), |_, s| curve.mu_over_s(s));
+                    let want = fused_pairs(&sums, |_, s| curve.mu_over_s(s));
+                    assert_eq!(got, want, "curve, {rule:?} {n} strips");
+                    let got = sums.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s));
+                    let want = fused_pairs(&sums, |xi, s| film.mu_over_s(xi, s));
+                    assert_eq!(got, want, "rheology, {rule:?} {n} strips");
                 }
-                assert_eq!(got, (f_tr, f_h, f_y), "{n} strips");
             }
         }
     }

@@ -20,7 +20,7 @@
 //! and shear heating (below 0.2 K at the slips of a rolling ball).
 
 use super::exp::exp;
-use super::hertz::HertzContact;
+use super::hertz::{cube_root, HertzContact};
 use std::f64::consts::PI;
 
 /// Below this entrainment speed (m/s) the film laws take this speed: the film thickness and
@@ -99,18 +99,29 @@ impl RheologyTraction {
     }
 
     /// Central film thickness at load `q` (N) and entrainment speed `um` (m/s), m.
+    ///
+    /// `u^0.67 Q^-0.067` as one exponential of the two logarithms: libm's `powf` twice cost
+    /// about 250 instructions per contact, this form about half (callgrind,
+    /// docs/lab/benchmarks.md).
     #[inline]
     pub fn film_thickness(&self, q: f64, um: f64) -> f64 {
-        self.h_coef * um.max(FILM_SPEED_FLOOR).powf(0.67) * q.powf(-0.067)
+        self.h_coef * exp(0.67 * um.max(FILM_SPEED_FLOOR).ln() - 0.067 * q.ln())
     }
 
     /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s).
     #[inline]
     pub fn at(&self, q: f64, um: f64) -> ContactRheology {
+        self.at_load(q, cube_root(q), um)
+    }
+
+    /// [`RheologyTraction::at`] given also the load's cube root `q13 = cube_root(q)`, which
+    /// the strip loop has already computed for the ellipse's size.
+    #[inline]
+    pub fn at_load(&self, q: f64, q13: f64, um: f64) -> ContactRheology {
         let h = self.film_thickness(q, um);
         ContactRheology {
             // the strip pressures scale with p0 ~ Q / (a b) ~ Q^(1/3)
-            p_centre: self.p_strip_coef * q.cbrt(),
+            p_centre: self.p_strip_coef * q13,
             h,
             inv_2lambda_h: 1.0 / (2.0 * self.limiting * h),
             ln_eta0: self.ln_eta0,
@@ -175,34 +186,32 @@ impl ContactRheology {
         }
     }
 
-    /// `mu(s) / s` of the strip with half-chord ratio `chord` (see [`ContactRheology::film`]),
-    /// finite at s = 0, 1/(m/s).
-    ///
-    /// Arana's eq. 13 per strip, `mu = min((tau_E/p) asinh(z), Lambda)` with
-    /// `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
-    /// `c = alpha p / 2` as `mu = Lambda min(asinh(z), c) / c`: one division per strip.
+    /// The law of the strip with half-chord ratio `chord` (see [`ContactRheology::film`]):
+    /// what its `mu(s) / s` needs besides the slip. A pair of strips mirrored about the
+    /// ellipse's centre shares it, so the strip loop computes it once per pair.
+    #[inline(always)]
+    pub fn strip_law(&self, chord: f64) -> StripLaw {
+        let (pressure, viscosity, alpha) = self.film(chord);
+        // a strip at the ellipse's edge carries no load and no traction: k = 0 gives mu = 0
+        if pressure <= 0.0 {
+            return StripLaw {
+                c: 1.0,
+                k: 0.0,
+                limiting: self.limiting,
+            };
+        }
+        StripLaw {
+            c: 0.5 * alpha * pressure,
+            // z / s = eta alpha / (2 Lambda h)
+            k: viscosity * alpha * self.inv_2lambda_h,
+            limiting: self.limiting,
+        }
+    }
+
+    /// `mu(s) / s` of the strip with half-chord ratio `chord`, finite at s = 0, 1/(m/s).
     #[inline(always)]
     pub fn mu_over_s_chord(&self, chord: f64, s: f64) -> f64 {
-        let (pressure, viscosity, alpha) = self.film(chord);
-        // a strip at the ellipse's edge carries no load and no traction
-        if pressure <= 0.0 {
-            return 0.0;
-        }
-        let c = 0.5 * alpha * pressure;
-        // z / s = eta alpha / (2 Lambda h)
-        let k = viscosity * alpha * self.inv_2lambda_h;
-        let z = k * s;
-        if z < 1e-4 {
-            // asinh z / z = 1 - z^2/6 + O(z^4): slope eta / (h p) = Lambda k / c
-            return self.limiting * k * (1.0 - z * z / 6.0) / c;
-        }
-        let a = asinh_positive(z);
-        if a >= c {
-            // the film carries at most Lambda p
-            self.limiting / s
-        } else {
-            self.limiting * a / (c * s)
-        }
+        self.strip_law(chord).mu_over_s(s)
     }
 
     /// `mu(s) / s` of the strip at `xi` (fraction of the semi-major axis), 1/(m/s): the strip
@@ -216,6 +225,38 @@ impl ContactRheology {
     /// `mu(s)` of the strip at `xi`, -.
     pub fn mu(&self, xi: f64, s: f64) -> f64 {
         self.mu_over_s(xi, s) * s
+    }
+}
+
+/// [`ContactRheology`] on one strip: Arana's eq. 13, `mu = min((tau_E/p) asinh(z), Lambda)`
+/// with `z = eta s / (tau_E h)` and `tau_E = 2 Lambda / alpha`, written with
+/// `c = alpha p / 2` as `mu = Lambda min(asinh(z), c) / c`: one division per strip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripLaw {
+    /// `alpha p / 2`, -.
+    c: f64,
+    /// `z / s = eta alpha / (2 Lambda h)`, 1/(m/s).
+    k: f64,
+    /// Limiting shear stress over pressure, -.
+    limiting: f64,
+}
+
+impl StripLaw {
+    /// `mu(s) / s`, finite at s = 0, 1/(m/s).
+    #[inline(always)]
+    pub fn mu_over_s(&self, s: f64) -> f64 {
+        let z = self.k * s;
+        if z < 1e-4 {
+            // asinh z / z = 1 - z^2/6 + O(z^4): slope eta / (h p) = Lambda k / c
+            return self.limiting * self.k * (1.0 - z * z / 6.0) / self.c;
+        }
+        let a = asinh_positive(z);
+        if a >= self.c {
+            // the film carries at most Lambda p
+            self.limiting / s
+        } else {
+            self.limiting * a / (self.c * s)
+        }
     }
 }
 

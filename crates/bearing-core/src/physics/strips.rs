@@ -25,23 +25,67 @@ pub enum StripRule {
 /// semi-axis; this is the total): their positions as fractions of the semi-axis, and
 /// their shares of the normal load, summing to 1. Both depend only on the count and the
 /// rule, so they are computed once per model.
+///
+/// The samples sit in mirror pairs about the ellipse's centre (`xi[n-1-i] == -xi[i]` and
+/// equal weights, to the bit), so a pair shares what depends on `|xi|` alone: the strip's
+/// distance from the ball centre and, under the rheology law, its pressure and film.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Strips {
     /// Sample positions, -1..1 of the semi-major axis, ascending.
     pub xi: Vec<f64>,
     /// Load shares, summing to 1.
     pub weight: Vec<f64>,
+    /// The mirror pairs, from the outermost in; with an odd count the last is the centre
+    /// sample alone.
+    pub pairs: Vec<StripPair>,
+}
+
+/// Two samples at `-xi` and `+xi`, or the centre sample alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StripPair {
+    /// Position of the sample at `+xi` (>= 0), fraction of the semi-major axis.
+    pub xi: f64,
+    /// The strip's half-chord along the rolling direction over the centre strip's,
+    /// `sqrt(1 - xi^2)`.
+    pub chord: f64,
+    /// Load share of the sample at `-xi`: zero for the centre sample, which has no twin.
+    pub weight_minus: f64,
+    /// Load share of the sample at `+xi`.
+    pub weight_plus: f64,
 }
 
 impl Strips {
     /// `n` samples (at least one) placed by `rule`.
     pub fn new(n: usize, rule: StripRule) -> Strips {
         let n = n.max(1);
-        let (xi, weight) = match rule {
+        let (mut xi, mut weight) = match rule {
             StripRule::Equal => Strips::equal(n),
             StripRule::Gauss => Strips::gauss_jacobi(n),
         };
-        Strips { xi, weight }
+        // Both rules are symmetric in exact arithmetic; the eigen-solver and the strip
+        // centres' sums leave the mirror samples a few ulp apart. Averaging makes them
+        // mirror to the bit, so a pair can share its `|xi|` terms.
+        for i in 0..n / 2 {
+            let j = n - 1 - i;
+            let x = 0.5 * (xi[j] - xi[i]);
+            let w = 0.5 * (weight[i] + weight[j]);
+            (xi[i], xi[j], weight[i], weight[j]) = (-x, x, w, w);
+        }
+        if n % 2 == 1 {
+            xi[n / 2] = 0.0;
+        }
+        let pairs = (0..n.div_ceil(2))
+            .map(|i| {
+                let j = n - 1 - i;
+                StripPair {
+                    xi: xi[j],
+                    chord: (1.0 - xi[j] * xi[j]).max(0.0).sqrt(),
+                    weight_minus: if i == j { 0.0 } else { weight[i] },
+                    weight_plus: weight[j],
+                }
+            })
+            .collect();
+        Strips { xi, weight, pairs }
     }
 
     fn equal(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -132,5 +176,32 @@ mod tests {
         assert!((s.xi[1] - 0.2f64.sqrt()).abs() < 1e-15 && (s.weight[0] - 0.5).abs() < 1e-15);
         let e = Strips::new(10, StripRule::Equal);
         assert!((apply(&e, |x| x * x) - moment(2)).abs() > 1e-3);
+    }
+
+    /// The samples mirror to the bit, and the pairs list each sample once with its weight.
+    #[test]
+    fn samples_come_in_exact_mirror_pairs() {
+        for rule in [StripRule::Gauss, StripRule::Equal] {
+            for n in [1usize, 2, 5, 10, 11, 40, 200] {
+                let s = Strips::new(n, rule);
+                for i in 0..n {
+                    assert_eq!(s.xi[n - 1 - i], -s.xi[i], "{rule:?} {n}: xi {i}");
+                    assert_eq!(s.weight[n - 1 - i], s.weight[i], "{rule:?} {n}: weight {i}");
+                }
+                assert_eq!(s.pairs.len(), n.div_ceil(2));
+                let total: f64 = s.pairs.iter().map(|p| p.weight_minus + p.weight_plus).sum();
+                assert!((total - 1.0).abs() < 1e-14, "{rule:?} {n}: {total}");
+                for (i, p) in s.pairs.iter().enumerate() {
+                    assert_eq!(
+                        (p.xi, p.weight_plus),
+                        (s.xi[n - 1 - i], s.weight[n - 1 - i])
+                    );
+                    assert!(p.xi >= 0.0 && (p.chord * p.chord + p.xi * p.xi - 1.0).abs() < 1e-15);
+                }
+                if n % 2 == 1 {
+                    assert_eq!(s.pairs[n / 2].weight_minus, 0.0);
+                }
+            }
+        }
     }
 }
