@@ -1,15 +1,16 @@
-//! What the engine benchmarks compare on: the scene (`--scene`, `--fault`, `--duration`)
-//! and what they read from a run (identified BPFO/BPFI, cage speed, band RMS, peak loads).
+//! What the engine benchmarks compare on: the scene (`--scene`, `--fault`, `--duration`,
+//! `--rpm`, `--lubricant`) and what they read from a run (identified BPFO/BPFI, cage speed, band RMS, peak loads).
 
 use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity, Scene};
 use bearing_core::signal::analysis::AnalysisOptions;
 use bearing_core::simulation::SimResult;
 use bearing_core::simulation_analysis::{analyze_simulation, steady_band_rms};
+use bearing_core::study::lubricant_variant;
 
 /// The scene a comparison runs on.
 #[derive(clap::Args, Debug)]
 pub struct ComparisonArgs {
-    /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (10000 rpm).
+    /// `table1` (1000 -> 10000 rpm in 0.1 s, as in the paper) or `constant` (`--rpm`).
     #[arg(long, default_value = "table1")]
     pub scene: String,
     /// Fault case of the preset: none, inner, outer or compound.
@@ -18,19 +19,39 @@ pub struct ComparisonArgs {
     /// Simulated time per run, s.
     #[arg(long, default_value_t = 0.5)]
     pub duration: f64,
+    /// Shaft speed of the `constant` scene, rev/min.
+    #[arg(long, default_value_t = 10_000.0)]
+    pub rpm: f64,
+    /// Lubricant variant (`bearing-sim study` names: `paper`, `rheology`, ...); default the
+    /// preset's.
+    #[arg(long)]
+    pub lubricant: Option<String>,
 }
 
 /// The scene of a comparison: the preset's fault case on the Table-1 ramp or at a
-/// constant 10000 rpm, recording ball 0's contact loads.
+/// constant speed (`--rpm`), with the lubricant variant asked for, recording ball 0's
+/// contact loads.
 pub fn comparison_scene(on: &ComparisonArgs) -> Result<Scene, Box<dyn std::error::Error>> {
     let mut s = fault_case_scene("h7005c", on.fault).expect("preset");
     match on.scene.as_str() {
         "table1" => {}
         "constant" => {
-            s.operating.speed.initial_rpm = 10_000.0;
+            if !(on.rpm.is_finite() && on.rpm > 0.0) {
+                return Err(format!("--rpm: must be > 0 (got {})", on.rpm).into());
+            }
+            s.operating.speed.initial_rpm = on.rpm;
+            s.operating.speed.steady_rpm = on.rpm;
             s.operating.speed.ramp_time = 0.0;
         }
         other => return Err(format!("--scene: expected table1 or constant, got {other}").into()),
+    }
+    if let Some(name) = &on.lubricant {
+        let v = lubricant_variant(name).map_err(|e| format!("--lubricant: {e}"))?;
+        s.lubricant.cavity_drag = v.cavity_drag;
+        s.lubricant.rolling_resistance = v.rolling_resistance;
+        if let Some(t) = v.traction {
+            s.lubricant.traction = t;
+        }
     }
     s.solver.duration = on.duration;
     s.outputs.contact_loads_ball = Some(0);
