@@ -909,21 +909,22 @@ pub fn verdict(
         // multiples of f1 / Z come within the tolerance of another family's harmonics:
         // 0.1 s at 10000 rpm on the H7005C). Their fundamentals as this round identified
         // them (with the cage's slip the H7005C's 4xBPFO lies 14 Hz, a bin, from four times
-        // theory's), unless that anchor is within half a bin of a line the accepted fault
-        // predicts: then it identifies nothing (on the CWRU 6205 the rolling element's
-        // anchor at 72.0 Hz is 4 (f_r - FTF) of the inner race, 0.04 Hz away) and theory's
-        // fundamental stands in.
-        let half_bin = 0.5 * ranked.first().map_or(0.0, |l| l.df());
+        // theory's), unless that anchor is itself nearer to a line the accepted fault
+        // predicts than to its own theoretical fundamental: then it is the accepted fault's
+        // line, identifies nothing, and theory's fundamental stands in (on the CWRU 6205
+        // the rolling element's anchor at 72.05 Hz is 0.09 Hz from the inner race's
+        // 4 (f_r - FTF) and 1.4 Hz from BSF).
         let open: Vec<f64> = FaultType::ALL
             .iter()
             .filter(|f| !accepted.contains(f))
             .flat_map(|&f| {
+                let own = f.theory_hz(theory);
                 let f1 = round
                     .iter()
                     .find(|r| r.0 == f)
                     .and_then(|r| r.1.fundamental_hz)
-                    .filter(|&a| set.iter().all(|&c| (a - c).abs() > half_bin))
-                    .unwrap_or_else(|| f.theory_hz(theory));
+                    .filter(|&a| set.iter().all(|&c| (a - c).abs() > (a - own).abs()))
+                    .unwrap_or(own);
                 (1..=n).map(move |h| h as f64 * f1)
             })
             .collect();
