@@ -248,6 +248,17 @@ mod tests {
         }
     }
 
+    /// [`analyze_simulation`] of that channel with the default options.
+    fn analyze_accel_y(result: &SimResult, scene: &Scene) -> AnalysisOutput {
+        analyze_simulation(
+            result,
+            scene,
+            "outer_ring_accel_y",
+            &AnalysisOptions::default(),
+        )
+        .unwrap()
+    }
+
     #[test]
     fn frequencies_compare_the_cage_with_both_kinematics() {
         let scene = crate::scene::preset_scene("h7005c").unwrap();
@@ -317,13 +328,7 @@ mod tests {
             angle.revolutions() > 1.0 && turns < 1.0,
             "{turns} revolutions"
         );
-        let out = analyze_simulation(
-            &result,
-            &scene,
-            "outer_ring_accel_y",
-            &AnalysisOptions::default(),
-        )
-        .unwrap();
+        let out = analyze_accel_y(&result, &scene);
         assert!(out.report.order_tracking.is_none());
     }
 
@@ -351,13 +356,7 @@ mod tests {
                 ..Summary::default()
             },
         );
-        let out = analyze_simulation(
-            &result,
-            &scene,
-            "outer_ring_accel_y",
-            &AnalysisOptions::default(),
-        )
-        .unwrap();
+        let out = analyze_accel_y(&result, &scene);
         // ramp end 0.2 s + min(25 % of the remaining 1.0 s, 0.1 s) -> [0.3, 1.2]
         assert!(
             (out.report.window[0] - 0.3).abs() < 1e-9 && (out.report.window[1] - 1.2).abs() < 1e-9

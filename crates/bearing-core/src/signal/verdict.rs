@@ -618,7 +618,10 @@ fn series(
             });
             continue;
         }
-        lines.reclaim(wl, wh, if anchor { base } else { f }, &mut reclaimed);
+        // the anchor's search band reclaimed its lines before the anchor was chosen
+        if !anchor {
+            lines.reclaim(wl, wh, f, &mut reclaimed);
+        }
         if order == 0 {
             harmonics_tested += 1;
         }
