@@ -188,7 +188,7 @@ fn evenly_loaded_cage_runs_quiet() {
 /// With lubricant drag and EHL rolling resistance the balls are braked: the cage runs
 /// slower than in the paper's model, and the loads still balance and agree with the
 /// quasi-static solution (drag and rolling resistance act along the rolling direction, so
-/// the Jones-Harris normal equilibrium does not change). Started from the traction balance
+/// the quasi-static normal equilibrium does not change). Started from the traction balance
 /// the cage runs quiet on its land: the half-speed whirl once seen here came from the start
 /// (every ball at its own rolling speed and the cage at their mean, 2.3 % fast); measured
 /// 2026-11-27 from the balanced start, e = 0.11 over 0.3 s, no orbit (docs/lab/history.md).

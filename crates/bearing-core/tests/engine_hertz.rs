@@ -1,5 +1,6 @@
-//! Exact Hertz constants against an independent computation: Harris' curvature-difference
-//! formulation (Rolling Bearing Analysis, ch. 6) with Carlson's symmetric elliptic integrals
+//! Exact Hertz constants against an independent computation: the curvature-difference
+//! form of the ellipticity relation (algebraically Biboulet & Houpert 2010, Part 2, eq. 43,
+//! checked numerically) with Carlson's symmetric elliptic integrals
 //! (DLMF 19.36) and a bracketing solve, where the engine uses Johnson's formulation, the
 //! arithmetic-geometric mean and a log-space bisection. Two routes, one answer.
 

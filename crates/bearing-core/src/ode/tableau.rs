@@ -147,7 +147,8 @@ pub const RK4_FSAL: ExplicitTableau = ExplicitTableau {
     ..CLASSICAL_RK4
 };
 
-/// The Cash-Karp embedded 4(5) pair (Press et al., Numerical Recipes, sec. 16.2),
+/// The Cash-Karp embedded 4(5) pair (coefficients as in open `rkck` routines, read;
+/// Numerical Recipes itself not read),
 /// advancing with the 4th-order solution; the difference to the 5th-order one is the
 /// local error estimate of the 4th-order solution (`h^5`).
 pub const CASH_KARP: ExplicitTableau = ExplicitTableau {

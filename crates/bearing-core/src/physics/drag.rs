@@ -1,8 +1,9 @@
 //! Drag of the cavity medium (an oil-air mixture) on the balls and the cage.
 //!
-//! Not in the seed paper (its model has no churning terms); Gupta's ADORE and Harris &
-//! Kotzalas model the cavity as a homogeneous oil-air mixture of effective density and
-//! viscosity. Formulas and sources: docs/reference/model.md, "Lubricant drag".
+//! Not in the seed paper (its model has no churning terms). The cavity is a homogeneous
+//! oil-air mixture of effective density and viscosity, this project's choice (an ADORE-style
+//! code read likewise gives the cavity medium by ratios to the lubricant). Formulas and
+//! sources: docs/reference/model.md, "Lubricant drag".
 
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -22,8 +23,8 @@ pub struct CavityMedium {
 }
 
 impl CavityMedium {
-    /// Mixture with oil volume fraction `x` (0..1): both properties by the volume-weighted
-    /// rule of Harris & Kotzalas (rho_eff = X rho_oil + (1 - X) rho_air, likewise mu).
+    /// Mixture with oil volume fraction `x` (0..1): both properties weighted by volume
+    /// (rho_eff = X rho_oil + (1 - X) rho_air, likewise mu; an assumption, see model.md).
     pub fn mixture(x: f64, oil_density: f64, oil_viscosity: f64) -> CavityMedium {
         CavityMedium {
             density: x * oil_density + (1.0 - x) * AIR_DENSITY,
@@ -89,7 +90,8 @@ impl BallDrag {
 }
 
 /// Windage on the two annular faces of a cage turning at `w` (rad/s) in a still medium,
-/// treated as a free rotating disc (laminar, Schlichting): `M = -C_M (1/2) rho w |w|
+/// treated as a free rotating disc (laminar; coefficient as read in docs/reference/model.md,
+/// "Lubricant drag"): `M = -C_M (1/2) rho w |w|
 /// (R_o^5 - R_i^5)` per face pair with `C_M = 3.87 / sqrt(Re)`, `Re = rho |w| R_o^2 / mu`.
 /// Returned as the torque about the cage axis, N m.
 #[inline]
@@ -138,8 +140,7 @@ mod tests {
         // H7005C at 10000 rpm: ball centre speed d_m w_c / 2 = 8.0 m/s, X = 0.01
         // (rho 9.893 kg/m^3, mu 6.232e-5 Pa s): Re = 7055, C_D = 0.4740 (White), so by hand
         // F = 0.4740 x 0.5 x 9.893 x pi (2.778e-3)^2 x 64 = 3.638e-3 N; 0.5 % covers the
-        // rounding of the hand figures. (The research note's 3.2e-3 N used Harris's 1.95
-        // exponent instead of 2.)
+        // rounding of the hand figures (the research note's recomputed 3.65e-3 N agrees).
         let b = ball();
         let f = b.force(&Vector3::new(0.0, 8.0, 0.0)).norm();
         assert!((f - 3.638e-3).abs() / 3.638e-3 < 5e-3, "F = {f}");

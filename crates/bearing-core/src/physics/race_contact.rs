@@ -293,7 +293,8 @@ fn entrainment_velocity(
 /// Add the EHL rolling resistance of a contact carrying `q` (N) with entrainment velocity
 /// `um` (m/s) to its forces; `r_b` is the contact point from the ball centre (m).
 ///
-/// Bălan et al. (2015): the film's shear brakes each surface with `F_R` at the contact,
+/// An assumption (attributed to Bălan et al. 2015, not read; docs/reference/model.md): the
+/// film's shear brakes each surface with `F_R` at the contact,
 /// against its motion relative to the contact, and the film pressure pushes the ball's
 /// centre with `2 F_R` the other way. On the ball that is a net force `F_R` along the
 /// entrainment velocity (backwards for a rolling ball) and the moment of the shear about

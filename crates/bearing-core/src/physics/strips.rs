@@ -97,8 +97,9 @@ impl Strips {
         (xi, raw.iter().map(|w| w / sum).collect())
     }
 
-    /// Golub and Welsch (Math. Comp. 23, 1969): the nodes are the eigenvalues of the
-    /// symmetric tridiagonal Jacobi matrix of the orthogonal polynomials for the weight,
+    /// The Golub-Welsch method (docs/reference/model.md says where it was read): the nodes
+    /// are the eigenvalues of the symmetric tridiagonal Jacobi matrix of the orthogonal
+    /// polynomials for the weight,
     /// and each weight is the total mass times the square of its eigenvector's first
     /// component. For `1 - x^2` (Gegenbauer, lambda = 3/2) the monic recurrence has zero
     /// diagonal and `beta_k = k (k + 2) / ((2k + 1)(2k + 3))`.

@@ -130,8 +130,8 @@ pub struct Lubricant {
     /// spindle oil; with it Table 1's 5.1 mm^2/s is the preset's 4.44 mPa s.
     #[serde(default = "default_lubricant_density")]
     pub density: f64,
-    /// Pressure-viscosity coefficient alpha (Barus), 1/Pa. Default 1.5e-8, typical of
-    /// light mineral or ester spindle oils at 60-80 deg C (range 1.0-2.2e-8).
+    /// Pressure-viscosity coefficient alpha (Barus), 1/Pa. Default 1.5e-8: mineral spindle
+    /// oils give 1.3-2.0e-8 at 60-100 deg C (Stachowiak & Batchelor, Table 2.3).
     #[serde(default = "default_pressure_viscosity")]
     pub pressure_viscosity: f64,
     /// Drag of the cavity medium on the balls' orbital motion and spin and on the cage.
@@ -151,7 +151,7 @@ pub struct Lubricant {
 pub enum CavityDrag {
     /// No drag (the seed paper's model).
     None,
-    /// A homogeneous oil-air mixture (Harris & Kotzalas; Gupta's ADORE).
+    /// A homogeneous oil-air mixture (docs/reference/model.md, "Lubricant drag").
     OilAir {
         /// Oil volume fraction of the mixture, - (0..1). Default 0.01: a channelled grease
         /// leaves the ball track mostly to air carrying bled oil; SKF fills high-speed
@@ -177,7 +177,8 @@ impl Default for CavityDrag {
 pub enum RollingResistanceModel {
     /// None (the seed paper's model).
     None,
-    /// Houpert's fit for fully flooded, isothermal elliptical contacts.
+    /// Biboulet & Houpert's fit (2010, Part 2, eq. 32) for fully flooded, isothermal
+    /// elliptical contacts.
     Houpert {
         /// Multiplier for starvation and inlet shear heating, - (0..1]. Default 1: fully
         /// flooded and isothermal, as the seed paper assumes.
