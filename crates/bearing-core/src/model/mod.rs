@@ -78,6 +78,9 @@ pub struct Model {
 
 impl Model {
     pub fn new(scene: &ValidScene) -> Model {
+        // decide the contact code's instruction set here, so that the right-hand side never
+        // reads the environment (which allocates)
+        crate::physics::cpu::wide_vectors();
         let b = &scene.bearing;
         let m = &scene.materials;
         let d = b.ball_diameter;

@@ -158,7 +158,7 @@ pub fn defects_effect_at(race: &Race, ring: &RingMotion, azimuth: &Azimuth) -> D
 
 /// Geometry only (eqs. 2-7): deformation, contact angle, azimuth and the unit normal
 /// from the curvature centre through the ball centre (inertial).
-#[inline]
+#[inline(always)]
 pub fn contact_geometry(
     race: &Race,
     ring: &RingMotion,
@@ -209,7 +209,37 @@ pub fn contact_geometry(
 }
 
 /// Full contact: Hertz load with damping, defect modification, traction by strips.
+///
+/// Compiled twice: for the baseline x86-64 and, chosen at run time, for processors with
+/// AVX2 and FMA (`super::cpu`), where the strip loop's arithmetic runs in wider vectors;
+/// the two give the same numbers (no operation is fused or reordered).
 pub fn race_contact(
+    race: &Race,
+    ring: &RingMotion,
+    ball: &BallMotion,
+    p: &ContactParams,
+) -> ContactResult {
+    #[cfg(target_arch = "x86_64")]
+    if super::cpu::wide_vectors() {
+        // SAFETY: the processor has AVX2 and FMA, checked at run time.
+        return unsafe { race_contact_avx2(race, ring, ball, p) };
+    }
+    race_contact_body(race, ring, ball, p)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn race_contact_avx2(
+    race: &Race,
+    ring: &RingMotion,
+    ball: &BallMotion,
+    p: &ContactParams,
+) -> ContactResult {
+    race_contact_body(race, ring, ball, p)
+}
+
+#[inline(always)]
+fn race_contact_body(
     race: &Race,
     ring: &RingMotion,
     ball: &BallMotion,
@@ -320,6 +350,7 @@ fn rolling_resistance(
 /// ellipse's major axis (eqs. 9-16): the force on the ball (N), its moment about the ball
 /// centre and the reaction's moment about the ring centre (N m).
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 pub fn strip_traction(
     race: &Race,
     ring: &RingMotion,
@@ -742,6 +773,60 @@ mod tests {
         assert!(r.delta < 0.0);
         assert_eq!(r.load, 0.0);
         assert_eq!(r.force_on_ball.norm() + r.force_on_ring.norm(), 0.0);
+    }
+
+    #[test]
+    fn the_avx2_copy_gives_the_baseline_numbers_to_the_bit() {
+        // The copy chosen on AVX2 processors must not change a result: no operation is fused
+        // (Rust never contracts a * b + c) or reordered. Both laws, a spinning and sliding
+        // ball with a rolling film, several loads.
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            use crate::physics::rheology_traction::{roelands_z, Rheology, RheologyTraction};
+            let mut rheology = outer_race();
+            let oil = Rheology {
+                eta0: 4.44e-3,
+                alpha0: 1.5e-8,
+                z: roelands_z(4.44e-3, 1.5e-8),
+                limiting: 0.047,
+            };
+            rheology.traction = TractionLaw::Rheology(RheologyTraction::new(
+                2.286e11,
+                rheology.rx,
+                &rheology.hertz,
+                &oil,
+            ));
+            let p = ContactParams {
+                strips: Strips::new(10, StripRule::Gauss),
+                ..params()
+            };
+            for race in [outer_race(), rheology] {
+                for (delta, spin) in [(1e-6, 800.0), (4e-6, 1047.0), (9e-6, -300.0)] {
+                    let mut ball = ball_at(&race, 15f64.to_radians(), delta, Vector3::zeros());
+                    ball.omega = Vector3::new(-2900.0, 150.0, 40.0);
+                    ball.velocity = Vector3::new(1e-3, 8.0, -2e-3);
+                    let ring = ring_at_rest(spin);
+                    let base = race_contact_body(&race, &ring, &ball, &p);
+                    // SAFETY: AVX2 and FMA were detected above.
+                    let wide = unsafe { race_contact_avx2(&race, &ring, &ball, &p) };
+                    let bits = |r: &ContactResult| {
+                        [
+                            r.force_on_ball,
+                            r.moment_on_ball,
+                            r.force_on_ring,
+                            r.moment_on_ring,
+                        ]
+                        .iter()
+                        .flat_map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+                        .chain([r.load.to_bits()])
+                        .collect::<Vec<_>>()
+                    };
+                    assert!(base.load > 0.0);
+                    assert_eq!(bits(&base), bits(&wide), "delta {delta}, spin {spin}");
+                }
+            }
+        }
     }
 
     #[test]
