@@ -318,10 +318,36 @@ async fn connections_over_the_bound_get_a_503_and_the_rest_keep_working() {
         ],
     );
     let addr = app.base.trim_start_matches("http://").to_string();
-    let hold: Vec<TcpStream> = (0..20)
-        .map(|_| TcpStream::connect(&addr).unwrap())
-        .collect();
-    std::thread::sleep(Duration::from_millis(200));
+    // One address holds at most 18 of the 20 (an eighth kept for others), so 2 of the held
+    // sockets are refused. A connection that has just closed (the start-up probe's) still
+    // holds its slot until its task ends; on a loaded machine a third held socket was then
+    // refused in its place, and the one over the bound took the freed slot (no 503; seen
+    // 5 runs in 6 beside a busy core). So the held set is opened again until exactly the
+    // two over the address's share were refused.
+    let answered = |s: &TcpStream| {
+        s.set_nonblocking(true).unwrap();
+        let r = s.peek(&mut [0u8; 1]);
+        s.set_nonblocking(false).unwrap();
+        r.is_ok()
+    };
+    let mut attempts = 0;
+    let hold = loop {
+        let hold: Vec<TcpStream> = (0..20)
+            .map(|_| TcpStream::connect(&addr).unwrap())
+            .collect();
+        std::thread::sleep(Duration::from_millis(200));
+        let refused = hold.iter().filter(|s| answered(s)).count();
+        if refused <= 2 {
+            break hold;
+        }
+        attempts += 1;
+        assert!(
+            attempts < 10,
+            "{refused} of the held sockets refused, every time"
+        );
+        drop(hold);
+        std::thread::sleep(Duration::from_millis(300));
+    };
     let mut over = TcpStream::connect(&addr).unwrap();
     let mut got = Vec::new();
     assert!(closed_within(&mut over, Duration::from_secs(5), &mut got));
