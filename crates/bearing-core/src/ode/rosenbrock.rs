@@ -1,7 +1,7 @@
 //! A linearly implicit Rosenbrock-W method for stiff problems: ROS34PW2 of Rang and
-//! Angermann (BIT Numer. Math. 45, 2005, not read; [`super::rosenbrock_tableau`]), 4 stages, order 3 with an embedded order-2
-//! solution, L-stable and stiffly accurate, and a W-method: its order holds for any
-//! approximation of the Jacobian, here the block-diagonal one of
+//! Angermann (BIT Numer. Math. 45, 2005, not read; [`super::rosenbrock_tableau`]), 4 stages,
+//! order 3 with an embedded order-2 solution, L-stable and stiffly accurate, and a W-method:
+//! its order holds for any approximation of the Jacobian, here the block-diagonal one of
 //! [`super::block_jacobian`]. The time derivative of `f` is left out, which a W-method
 //! also allows (the approximate Jacobian of the autonomous form has a zero time column).
 //!

@@ -1,6 +1,6 @@
 //! The Rosenbrock-W method ROS34PW2 (Rang and Angermann, BIT Numer. Math. 45, 2005, not
-//! read; the coefficients are PETSc's `TSROSWRA34PW2` table, read) as data: its coefficients and their form in the transformed variables the
-//! stepper ([`super::rosenbrock`]) works in.
+//! read; the coefficients are PETSc's `TSROSWRA34PW2` table, read) as data: its coefficients
+//! and their form in the transformed variables the stepper ([`super::rosenbrock`]) works in.
 
 // the tableau keeps the digits as published
 #![allow(clippy::excessive_precision)]
