@@ -303,13 +303,12 @@ impl<'a> RankedLines<'a> {
             .take_while(|&c| c < f_max)
             .collect();
         let df = self.df();
-        for (i, &k) in self.peaks.iter().enumerate() {
-            let f = k as f64 * df;
-            self.shaft[i] = orders
-                .iter()
-                .copied()
-                .filter(|&c| (f - c).abs() <= tolerance(df, c))
-                .min_by(|a, b| (f - a).abs().total_cmp(&(f - b).abs()));
+        for i in 0..self.peaks.len() {
+            let f = self.peaks[i] as f64 * df;
+            self.shaft[i] = self
+                .shaft_order_near(f)
+                .map(|k| k as f64 * fr)
+                .filter(|&c| c < f_max);
         }
         for &c in &orders {
             let (lo, hi) = self.window(c);
