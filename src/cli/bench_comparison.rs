@@ -46,12 +46,9 @@ pub fn comparison_scene(on: &ComparisonArgs) -> Result<Scene, Box<dyn std::error
         other => return Err(format!("--scene: expected table1 or constant, got {other}").into()),
     }
     if let Some(name) = &on.lubricant {
-        let v = lubricant_variant(name).map_err(|e| format!("--lubricant: {e}"))?;
-        s.lubricant.cavity_drag = v.cavity_drag;
-        s.lubricant.rolling_resistance = v.rolling_resistance;
-        if let Some(t) = v.traction {
-            s.lubricant.traction = t;
-        }
+        lubricant_variant(name)
+            .map_err(|e| format!("--lubricant: {e}"))?
+            .apply_to(&mut s.lubricant);
     }
     s.solver.duration = on.duration;
     s.outputs.contact_loads_ball = Some(0);

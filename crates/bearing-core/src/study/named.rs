@@ -357,11 +357,7 @@ mod tests {
         s.operating.speed.ramp_time = 0.0;
         s.operating.axial_load = p.axial_load;
         s.operating.radial_load = p.radial_load;
-        s.lubricant.cavity_drag = v.cavity_drag;
-        s.lubricant.rolling_resistance = v.rolling_resistance;
-        if let Some(t) = v.traction {
-            s.lubricant.traction = t;
-        }
+        v.apply_to(&mut s.lubricant);
         s.solver.duration = duration;
         s
     }

@@ -2,7 +2,7 @@
 //! "Lubricant drag", "EHL rolling resistance", "Traction laws"), each a set of scene fields
 //! a named design assigns over its base.
 
-use crate::scene::{CavityDrag, RollingResistanceModel, Traction};
+use crate::scene::{CavityDrag, Lubricant, RollingResistanceModel, Traction};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -18,6 +18,16 @@ pub struct LubricantVariant {
 }
 
 impl LubricantVariant {
+    /// Assign the variant's parts over a scene's lubricant (its traction law only when the
+    /// variant names one).
+    pub fn apply_to(&self, lubricant: &mut Lubricant) {
+        lubricant.cavity_drag = self.cavity_drag;
+        lubricant.rolling_resistance = self.rolling_resistance;
+        if let Some(t) = self.traction {
+            lubricant.traction = t;
+        }
+    }
+
     /// The seed paper's model: no drag, no rolling resistance, the eq. 15 curve.
     pub fn paper() -> Self {
         LubricantVariant {
