@@ -61,9 +61,9 @@ fn other_integrators_agree_with_quasi_static_and_the_default() {
 /// `slip_implicit` under the rheology law at 2000 rpm, where the thin film makes the slip
 /// relax faster than the contact modes ring (no fault, 0.05 s), both methods at 1e-7: the
 /// same mean cage speed as `rk4_fsal` within 1e-5 (issue 34's cage-speed accuracy; measured
-/// 4.2e-6 apart, where at 1e-5 `slip_implicit` is 8.7e-5 off: docs/lab/benchmarks.md) and far
-/// fewer evaluations, the slip no longer setting the step (measured 51k against 210k; half
-/// leaves room). (0.05 s is 1.7 shaft turns: too short for the load-zone bins of the
+/// 2026-11-28 with ROS34PRw 3.7e-6 apart, `auto_slip` 8.4e-6; with ROS34PW2 6.4e-6 and
+/// 6.3e-6) and far fewer evaluations, the slip no longer setting the step (measured 39k
+/// against 210k, 51k with ROS34PW2; half leaves room). (0.05 s is 1.7 shaft turns: too short for the load-zone bins of the
 /// quasi-static comparison, which the 10000 rpm tests above make.)
 #[test]
 fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
@@ -98,13 +98,13 @@ fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
     );
 }
 
-/// `auto_slip` where each method is the cheaper: at 10000 rpm the explicit one (the slip
-/// relaxation no longer holds its step), at 2000 rpm the implicit one; under the rheology
-/// law at the default tolerance, no fault, 0.05 s. Where the explicit method wins, the
-/// implicit one's lost trials cost at most a quarter more than `rk4_fsal` alone (measured
-/// 37 980 against 34 669, 1.10x); and a simulated second at 2000 rpm costs at most 1.5 times
-/// one at 10000 rpm in evaluations (issue 34's bound; measured 53 547 against 37 980,
-/// 1.41x), where `rk4_fsal` alone takes 6x (210k against 34.7k).
+/// `auto_slip` under the rheology law at the default tolerance, no fault, 0.05 s: at 10000
+/// rpm it costs at most a quarter more than `rk4_fsal` alone (the lost trials of the other
+/// method; measured 2026-11-28 29 672 against 34 669, 0.86x, `slip_implicit` with ROS34PRw
+/// being the cheaper here too; with ROS34PW2 37 980, 1.10x); and a simulated second at 2000
+/// rpm costs at most 1.5 times one at 10000 rpm in evaluations (issue 34's bound; measured
+/// 32 195 against 29 672, 1.09x; with ROS34PW2 1.41x), where `rk4_fsal` alone takes 6x
+/// (210k against 34.7k).
 #[test]
 fn auto_slip_costs_little_more_at_low_speed_than_at_high() {
     let mut fast = constant_speed(0.05, 1e-5);

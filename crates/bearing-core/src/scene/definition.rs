@@ -374,10 +374,11 @@ pub enum Integrator {
     /// control and a block-diagonal finite-difference Jacobian: not held back by the
     /// stiff contact modes.
     RosenbrockW,
-    /// ROS34PW2 with only each ball's velocity block in its Jacobian: implicit in the
-    /// traction's slip relaxation (the stiffness of a rheology-based traction law, worst
-    /// at low speed), explicit and undamped in the contact's elastic modes
-    /// (docs/reference/model.md, "Time integration").
+    /// The Rosenbrock-W method ROS34PRw with only each ball's velocity block in its
+    /// Jacobian: implicit in the traction's slip relaxation (the stiffness of a
+    /// rheology-based traction law, worst at low speed), explicit in the contact's elastic
+    /// modes, with RK4's stability and about its damping on them (docs/reference/model.md,
+    /// "Time integration").
     SlipImplicit,
     /// `rk4_fsal` and `slip_implicit`, each in turn challenged by the other: whichever
     /// costs fewer right-hand sides per simulated second, measured as the run goes, carries
