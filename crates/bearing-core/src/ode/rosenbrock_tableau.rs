@@ -15,10 +15,15 @@ pub const S: usize = 4;
 /// `Gamma` (lower, the same `gamma` on its whole diagonal), completion weights `b` and
 /// embedded weights `b2`.
 pub struct RosenbrockTable {
+    /// The diagonal of `Gamma`, -.
     pub gamma: f64,
+    /// Propagation coefficients `alpha_ij`, strictly lower, -.
     pub a: [[f64; S]; S],
+    /// Stage coefficients `gamma_ij`, lower, `gamma` on the diagonal, -.
     pub g: [[f64; S]; S],
+    /// Weights of the propagated solution, -.
     pub b: [f64; S],
+    /// Weights of the embedded solution the error estimate compares with, -.
     pub b2: [f64; S],
 }
 
