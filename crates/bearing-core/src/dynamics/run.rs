@@ -71,23 +71,26 @@ pub fn integrate(
         }
         Integrator::SlipImplicit => {
             sys.scope = JacobianScope::BallVelocities;
-            // ROS34PRw: its explicit part is as stable on the imaginary axis as RK4, which
-            // the contact's elastic modes (explicit here) need
-            let method = Rosenbrock::new(n, norm, ball_velocity_jacobian(m))
-                .with_tableau(Tableau::ros34prw());
+            let method = slip_implicit(n, norm, m);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
         Integrator::AutoSlip => {
             sys.scope = JacobianScope::BallVelocities;
             let explicit = ExplicitRk::adaptive(&RK4_FSAL, n, norm.clone());
-            let implicit = Rosenbrock::new(n, norm, ball_velocity_jacobian(m))
-                .with_tableau(Tableau::ros34prw());
+            let implicit = slip_implicit(n, norm, m);
             let method = AutoSwitch::with_rule(explicit, implicit, SwitchRule::MeasuredCost);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
     }
+}
+
+/// The method of `slip_implicit` (and `auto_slip`'s implicit one): implicit in each ball's
+/// velocities, with ROS34PRw, whose explicit part is as stable on the imaginary axis as RK4,
+/// which the contact's elastic modes (left explicit) need.
+fn slip_implicit(n: usize, norm: ErrorNorm, m: &Model) -> Rosenbrock {
+    Rosenbrock::new(n, norm, ball_velocity_jacobian(m)).with_tableau(Tableau::ros34prw())
 }
 
 fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(

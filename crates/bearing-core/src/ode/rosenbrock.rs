@@ -4,8 +4,8 @@
 //! The table is data ([`super::rosenbrock_tableau`]): ROS34PW2 of Rang and Angermann (BIT
 //! Numer. Math. 45, 2005, not read) by default, or ROS34PRw (Rang 2015, not read), whose
 //! explicit part is as stable as RK4 on the imaginary axis, for a Jacobian that leaves
-//! undamped oscillations out ([`Rosenbrock::with_tableau`]). The time derivative of `f` is left out, which a W-method
-//! also allows (the approximate Jacobian of the autonomous form has a zero time column).
+//! undamped oscillations out ([`Rosenbrock::with_tableau`]). The time derivative of `f` is
+//! left out, which a W-method also allows (the approximate Jacobian of the autonomous form has a zero time column).
 //!
 //! Implemented in the transformed variables `u_i = sum_j gamma_ij k_j` (Hairer and
 //! Wanner, Solving ODEs II, sec. IV.7), so a stage needs one block solve and no
