@@ -269,6 +269,23 @@ pub fn catalogue() -> Vec<StressScene> {
             None,
         ),
         s(
+            "rheology",
+            "lubricant: the rheology traction law with `auto_slip`, Table 1's loads",
+            |t| rheology(t, 300.0, 100.0),
+            runs(SAME_COST),
+            0.02,
+            None,
+        ),
+        s(
+            "ten_times_load_rheology",
+            "lubricant and load: the rheology law at ten times Table 1's load, where a loaded \
+             strip saturates within micrometres per second of slip",
+            |t| rheology(t, 3000.0, 1000.0),
+            runs(SAME_COST),
+            0.02,
+            None,
+        ),
+        s(
             "very_viscous",
             "lubricant: 1 Pa s (ISO VG 1000 at 40 C) with rolling resistance and cavity drag",
             |t| viscous(t, 1.0),
@@ -462,6 +479,15 @@ fn lubricant(duration: f64, viscosity: f64) -> Scene {
     };
     s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
     s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.01 };
+    s
+}
+
+/// The rheology traction law under `radial` and `axial` load (N), with the integrator made
+/// for its stiff slip (`auto_slip`).
+fn rheology(duration: f64, radial: f64, axial: f64) -> Scene {
+    let mut s = loads(duration, radial, axial);
+    s.lubricant.traction = Traction::RHEOLOGY;
+    s.solver.integrator = Integrator::AutoSlip;
     s
 }
 

@@ -87,6 +87,8 @@ stress_tests!(
     many_defects,
     too_many_defects,
     near_dry,
+    rheology,
+    ten_times_load_rheology,
     very_viscous,
     from_rest,
     fast_ramp_whirl,

@@ -4,6 +4,7 @@
 use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
+use super::rheology_traction::StripCellLaw;
 use super::rolling_resistance::RollingResistance;
 use super::strips::Strips;
 use super::traction::TractionLaw;
@@ -399,8 +400,9 @@ pub fn strip_traction(
         }
         TractionLaw::Rheology(law) => {
             let film = law.at_load(q, q13, um);
-            // the film of a strip depends on its pressure, so on |xi| alone: once per pair
-            strips.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s))
+            // the film of a strip depends on its pressure, so on |xi| alone: once per pair;
+            // where the law is steep on a cell's scale, its mean over the cell
+            strips.sum_cells(|chord| film.strip_cell_law(chord))
         }
     };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
@@ -480,6 +482,41 @@ impl StripSums<'_> {
                 f_h += h[k] * tr;
                 f_y += y[k] * (tr_plus - tr_minus);
             }
+        }
+        (f_tr, f_h, f_y)
+    }
+
+    /// [`StripSums::sum`] with each strip's law averaged over its cell
+    /// ([`StripCellLaw::cell_mean`]): the slip at `y` changes along the strip line by
+    /// `dv/dy = h'(y) c1 + c2`, `h'(y) = -y / sqrt(r'^2 - y^2)`, so across the cell by
+    /// `dv/dy a cell`.
+    #[inline(always)]
+    fn sum_cells(
+        &self,
+        pair_law: impl Fn(f64) -> StripCellLaw,
+    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let [c0, c1, c2] = self.c;
+        let mut f_tr = Vector3::zeros();
+        let mut f_h = Vector3::zeros();
+        let mut f_y = Vector3::zeros();
+        for pair in &self.p.strips.pairs {
+            let y = self.a_eff * pair.xi;
+            let root = (self.rp * self.rp - y * y).sqrt();
+            let h = root + self.base;
+            let centre = c0 + h * c1;
+            let across = y * c2;
+            // d/dy of `centre` is odd in y, of `across` even
+            let cell = self.a_eff * pair.cell;
+            let d_centre = (-y / root * cell) * c1;
+            let d_across = cell * c2;
+            let law = pair_law(pair.chord);
+            let tr_minus =
+                (self.q * pair.weight_minus) * law.cell_mean(centre - across, -d_centre + d_across);
+            let tr_plus =
+                (self.q * pair.weight_plus) * law.cell_mean(centre + across, d_centre + d_across);
+            f_tr += tr_minus + tr_plus;
+            f_h += h * (tr_minus + tr_plus);
+            f_y += y * (tr_plus - tr_minus);
         }
         (f_tr, f_h, f_y)
     }
@@ -583,6 +620,87 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Traction along the rolling direction (N) of a contact of the H7005C's inner race
+    /// carrying `q` (N), whose slip is `s0` (m/s) at the centre strip and grows by `g` (m/s)
+    /// per semi-axis across the ellipse (the ball's spin), by the strips of `p`: as sampled
+    /// at the strips (`cells` false) or as the rheology law's strip loop takes it (cell
+    /// means).
+    fn rolling_traction(p: &ContactParams, q: f64, s0: f64, g: f64, cells: bool) -> f64 {
+        let (rx, ep) = (2.364e-3, 2.286e11);
+        let hz = crate::physics::hertz::exact(rx, 49.07e-3, ep);
+        let film = RheologyTraction::new(ep, rx, &hz, &oil()).at(q, 9.21);
+        let a = hz.a_coef * q.cbrt();
+        let t_hat = Vector3::x();
+        let sums = StripSums {
+            p,
+            a_eff: a,
+            rp: 1.0,
+            base: -1.0,
+            q,
+            c: [s0 * t_hat, Vector3::zeros(), (g / a) * t_hat],
+        };
+        let (f, _, _) = if cells {
+            sums.sum_cells(|chord| film.strip_cell_law(chord))
+        } else {
+            sums.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s))
+        };
+        f.x
+    }
+
+    /// At ten times Table 1's load a loaded strip saturates within micrometres per second
+    /// of slip, so 10 point samples make the contact's traction a staircase in the ball's
+    /// slip: nearly flat between samples, nearly vertical where one changes sign. The cell
+    /// means follow the integral's slope instead. Slip at the centre over +-0.3 of the spin's
+    /// spread `g` (0.5 m/s per semi-axis), on a grid of 6001 points:
+    /// - the point samples' steepest slope is over 50 times the converged integral's (200
+    ///   strips with cell means, whose cells are 40 times narrower; measured 1.9e3 times);
+    /// - the cell means' steepest slope is within 2 times the converged one's (measured
+    ///   1.5: a cell mean is the integral of a strip law that ignores the load's and the
+    ///   pressure's change within the cell);
+    /// - the cell means' traction is within 3 % of `Lambda q` of the converged one
+    ///   (measured 0.65 %), where the point samples' is off by up to 20 % (measured).
+    #[test]
+    fn cell_means_follow_the_integral_where_point_samples_make_a_staircase() {
+        let (q, g) = (1000.0, 0.5);
+        let grid: Vec<f64> = (0..=6000)
+            .map(|i| -0.3 * g + 0.6 * g * i as f64 / 6000.0)
+            .collect();
+        let slopes = |f: &dyn Fn(f64) -> f64| -> (Vec<f64>, Vec<f64>) {
+            let v: Vec<f64> = grid.iter().map(|&s| f(s)).collect();
+            let d = v
+                .windows(2)
+                .zip(grid.windows(2))
+                .map(|(v, s)| (v[1] - v[0]) / (s[1] - s[0]))
+                .collect();
+            (v, d)
+        };
+        let strips = |n| ContactParams {
+            strips: Strips::new(n, StripRule::Gauss),
+            damping_ratio: 0.0,
+            ball_mass: 0.0,
+        };
+        let (fine, ten) = (strips(200), strips(10));
+        let (reference, ref_slope) = slopes(&|s| rolling_traction(&fine, q, s, g, true));
+        let (cells, cell_slope) = slopes(&|s| rolling_traction(&ten, q, s, g, true));
+        let (points, point_slope) = slopes(&|s| rolling_traction(&ten, q, s, g, false));
+        let max = |v: &[f64]| v.iter().cloned().fold(f64::MIN, f64::max);
+        let worst = |v: &[f64]| {
+            v.iter()
+                .zip(&reference)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+                / (0.047 * q)
+        };
+        let steepest = max(&ref_slope);
+        eprintln!(
+            "steepest slope: points {:.3e}, cells {:.3e}, reference {:.3e} N s/m; worst error: cells {:.4}, points {:.4} of Lambda q",
+            max(&point_slope), max(&cell_slope), steepest, worst(&cells), worst(&points)
+        );
+        assert!(max(&point_slope) > 50.0 * steepest);
+        assert!(max(&cell_slope) < 2.0 * steepest);
+        assert!(worst(&cells) < 0.03);
     }
 
     /// The strip loop as it was written before it was factored: every strip's slip from its

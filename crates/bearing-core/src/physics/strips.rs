@@ -52,6 +52,12 @@ pub struct StripPair {
     pub weight_minus: f64,
     /// Load share of the sample at `+xi`.
     pub weight_plus: f64,
+    /// Length of the sample's cell, fraction of the semi-major axis: centred on the sample
+    /// and reaching the nearer of its neighbours' (or the ellipse edge's mirror image), so
+    /// the cells overlap a little and leave no gap. Centred, so a law linear in slip has
+    /// its point value as its cell mean (the rule keeps Gauss's exactness there); without
+    /// gaps, so the traction has no flat step where the zero slip falls between two cells.
+    pub cell: f64,
 }
 
 impl Strips {
@@ -82,6 +88,13 @@ impl Strips {
                     chord: (1.0 - xi[j] * xi[j]).max(0.0).sqrt(),
                     weight_minus: if i == j { 0.0 } else { weight[i] },
                     weight_plus: weight[j],
+                    cell: {
+                        // to the edge and back, where there is no neighbour
+                        let edge = 2.0 * (1.0 - xi[j].abs());
+                        let left = if j > 0 { xi[j] - xi[j - 1] } else { edge };
+                        let right = if j + 1 < n { xi[j + 1] - xi[j] } else { edge };
+                        left.max(right)
+                    },
                 }
             })
             .collect();
@@ -201,6 +214,46 @@ mod tests {
                 }
                 if n % 2 == 1 {
                     assert_eq!(s.pairs[n / 2].weight_minus, 0.0);
+                }
+            }
+        }
+    }
+
+    /// Each sample's cell is centred on it and reaches both neighbouring samples' midpoints
+    /// (so the cells leave no gap anywhere in -1..1), and no cell is more than twice as long
+    /// as the gaps it must span.
+    #[test]
+    fn cells_are_centred_and_leave_no_gap() {
+        for rule in [StripRule::Gauss, StripRule::Equal] {
+            for n in [1usize, 2, 5, 10, 11, 40] {
+                let s = Strips::new(n, rule);
+                let mut cells: Vec<(f64, f64)> = s
+                    .pairs
+                    .iter()
+                    .flat_map(|p| [(-p.xi, p.cell), (p.xi, p.cell)])
+                    .collect();
+                cells.sort_by(|a, b| a.0.total_cmp(&b.0));
+                cells.dedup();
+                assert_eq!(cells.len(), n, "{rule:?} {n}");
+                assert!(
+                    cells[0].0 - 0.5 * cells[0].1 <= -1.0 + 1e-15,
+                    "{rule:?} {n}: left edge"
+                );
+                assert!(
+                    cells[n - 1].0 + 0.5 * cells[n - 1].1 >= 1.0 - 1e-15,
+                    "{rule:?} {n}: right edge"
+                );
+                for w in cells.windows(2) {
+                    let ((x0, c0), (x1, c1)) = (w[0], w[1]);
+                    let mid = 0.5 * (x0 + x1);
+                    assert!(
+                        x0 + 0.5 * c0 >= mid && x1 - 0.5 * c1 <= mid,
+                        "{rule:?} {n}: gap at {mid}"
+                    );
+                    assert!(
+                        c0 <= 2.0 * (x1 - x0).max(2.0 * (1.0 - x0.abs())),
+                        "{rule:?} {n}"
+                    );
                 }
             }
         }
