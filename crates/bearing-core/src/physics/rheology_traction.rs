@@ -350,7 +350,7 @@ impl StripCellLaw {
     /// `r_m^2 = d^2 + t^2 + |span|^2/12`, exact for a linear law and smooth where the line
     /// passes near zero slip.
     ///
-    /// The mean costs three of the law's logarithms to the point value's one, so it is
+    /// The mean costs four of the law's logarithms to the point value's one, so it is
     /// taken only where the point value would be wrong or stiff, and the point value
     /// elsewhere, blended smoothly between the two (no jump in the force or its slope):
     /// - where the law is steep on the cell's scale: its zero-slip slope times the span,
