@@ -346,8 +346,9 @@ impl StripCellLaw {
     ///
     /// With `e` the span's direction, `v = t e + p` (`p` across it, `|p| = d`): along `e`
     /// the mean is exact, `(M(r+) - M(r-)) / |span|` with `r-+ = |v -+ span/2|` (since
-    /// `r dr = t dt`); across it, `p mu(r_m)/r_m` at the cell's RMS slip
-    /// `r_m^2 = d^2 + t^2 + |span|^2/12`, exact for a linear law and smooth where the line
+    /// `r dr = t dt`); across it, `p` times the mean of `mu(r)/r`, by Simpson's rule in
+    /// `u = asinh(t/d)` ([`StripCellLaw::exact_cell_mean`]): exact for the saturated law,
+    /// within 0.01 `Lambda` of quadrature where the law bends, and smooth where the line
     /// passes near zero slip.
     ///
     /// The mean costs four of the law's logarithms to the point value's one, so it is
@@ -371,7 +372,7 @@ impl StripCellLaw {
         if ratio2 <= s2 || steep2 <= 1.0 {
             return self.law.mu_over_s(s2.sqrt()) * v;
         }
-        let mean = self.exact_cell_mean(v, span, l2, s2);
+        let mean = self.exact_cell_mean(v, span, l2);
         let w_ratio = if ratio2 >= 4.0 * s2 {
             1.0
         } else {
@@ -392,16 +393,9 @@ impl StripCellLaw {
         w * mean + (1.0 - w) * self.law.mu_over_s(s2.sqrt()) * v
     }
 
-    /// [`StripCellLaw::cell_mean`] by the antiderivative, given `|span|^2` and `|v|^2`.
+    /// [`StripCellLaw::cell_mean`] by the antiderivative, given `|span|^2`.
     #[inline(always)]
-    fn exact_cell_mean(
-        &self,
-        v: Vector3<f64>,
-        span: Vector3<f64>,
-        l2: f64,
-        s2: f64,
-    ) -> Vector3<f64> {
-        let _ = s2;
+    fn exact_cell_mean(&self, v: Vector3<f64>, span: Vector3<f64>, l2: f64) -> Vector3<f64> {
         let l = l2.sqrt();
         let e = span / l;
         let t = v.dot(&e);
@@ -609,7 +603,7 @@ mod tests {
                 ] {
                     let v = Vector3::new(t * span_len, d * span_len, 0.0);
                     let span = span_len * along_dir;
-                    let got = cell.exact_cell_mean(v, span, span.norm_squared(), v.norm_squared());
+                    let got = cell.exact_cell_mean(v, span, span.norm_squared());
                     let want = segment_mean(&law, v, span);
                     let scale = law.limiting;
                     assert!(
@@ -670,12 +664,7 @@ mod tests {
         let light = law_1n();
         let c = StripCellLaw { law: light };
         let tiny = Vector3::new(1e-9, 2e-10, 0.0);
-        let mean = c.exact_cell_mean(
-            tiny,
-            4.0 * tiny.norm() * dir,
-            16.0 * tiny.norm_squared(),
-            tiny.norm_squared(),
-        );
+        let mean = c.exact_cell_mean(tiny, 4.0 * tiny.norm() * dir, 16.0 * tiny.norm_squared());
         let pt = light.mu_over_s(tiny.norm()) * tiny;
         let along = (mean - pt).dot(&dir).abs();
         assert!(along <= 1e-12 * pt.norm(), "{mean} {pt}");
