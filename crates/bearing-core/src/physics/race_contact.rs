@@ -655,7 +655,8 @@ mod tests {
     /// means follow the integral's slope instead. Slip at the centre over +-0.3 of the spin's
     /// spread `g` (0.5 m/s per semi-axis), on a grid of 6001 points:
     /// - the point samples' steepest slope is over 50 times the converged integral's (200
-    ///   strips with cell means, whose cells are 40 times narrower; measured 1.9e3 times);
+    ///   strips with cell means, whose centre cells are about 17 times narrower; measured
+    ///   1.9e3 times);
     /// - the cell means' steepest slope is within 2 times the converged one's (measured
     ///   1.5: a cell mean is the integral of a strip law that ignores the load's and the
     ///   pressure's change within the cell);

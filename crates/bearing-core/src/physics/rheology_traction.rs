@@ -313,7 +313,9 @@ impl StripLaw {
 }
 
 /// Span-to-slip ratio below which [`StripCellLaw::cell_mean`] takes the point value: there
-/// the two differ by at most ~0.3 % of the law's relative curvature.
+/// the two differ by ~0.3 % of the law's relative curvature, except where `|v|` is near
+/// the saturation kink, where they differ to first order, by up to `Lambda tanh(c)/(32 c)`
+/// (1 % of `Lambda` at `c = 3`; review of 2026-11-28).
 pub const CELL_POINT_RATIO: f64 = 0.25;
 
 /// Steepness of the law on a cell's scale (zero-slip slope times the cell's slip span, in
@@ -321,8 +323,8 @@ pub const CELL_POINT_RATIO: f64 = 0.25;
 /// law's linear part alone would not reach `Lambda` within the cell, so the law bends
 /// little there and the Gauss nodes integrate it as a smooth function. Measured on the
 /// H7005C (docs/lab/benchmarks.md, "Cell means for the rheology law"): against 10, the
-/// balls' traction moments at 10 nodes are 5 times closer to 80 nodes' (8.7 % against 41 %)
-/// for 15 % more run time on the Table-1 case.
+/// balls' traction moments at 10 nodes are about 4 times closer to 80 nodes' (9.3 %
+/// against 41 % with a linear blend) for 12 % more run time on the Table-1 case.
 pub const CELL_STEEPNESS: f64 = 1.0;
 
 /// A [`StripLaw`] averaged over cells ([`StripCellLaw::cell_mean`]).
@@ -348,8 +350,11 @@ impl StripCellLaw {
     /// the mean is exact, `(M(r+) - M(r-)) / |span|` with `r-+ = |v -+ span/2|` (since
     /// `r dr = t dt`); across it, `p` times the mean of `mu(r)/r`, by Simpson's rule in
     /// `u = asinh(t/d)` ([`StripCellLaw::exact_cell_mean`]): exact for the saturated law,
-    /// within 0.01 `Lambda` of quadrature where the law bends, and smooth where the line
-    /// passes near zero slip.
+    /// within 0.01 `Lambda` of quadrature on the tested segments where the law bends but up
+    /// to 0.06 `Lambda` on a segment centred on zero slip that passes it at a tenth of its
+    /// length with a gentle law (`c = 0.5`; found by review, not yet in the test: splitting
+    /// the `u` range where the law saturates would bring it to ~0.02), and smooth where the
+    /// line passes near zero slip.
     ///
     /// The mean costs four of the law's logarithms to the point value's one, so it is
     /// taken only where the point value would be wrong or stiff, and the point value
@@ -535,9 +540,10 @@ mod tests {
 
     /// `M(b) - M(a)` is the integral of the law over `a..b`: against Simpson's rule with
     /// 20000 intervals on each decade, whose error on these smooth pieces is below 1e-12
-    /// of the integral, except across the saturation kink, where one interval of width
-    /// `h` errs by up to `h Lambda` (1e-7 of the integral here); so 1e-6. The law's slope
-    /// is continuous, so `M` is continuous to rounding where the form changes at saturation.
+    /// of the integral, except across the saturation kink, where the law's slope jumps and
+    /// the interval holding it errs by `O(h^2)` times the jump, far below 1e-6 here; so
+    /// 1e-6. The law is continuous, so `M` is continuous to rounding where the form changes
+    /// at saturation.
     #[test]
     fn antiderivative_is_the_integral_of_the_law() {
         for law in strip_laws() {

@@ -52,9 +52,10 @@ pub struct StripPair {
     pub weight_minus: f64,
     /// Load share of the sample at `+xi`.
     pub weight_plus: f64,
-    /// Length of the sample's cell, fraction of the semi-major axis: centred on the sample
-    /// and reaching the nearer of its neighbours' (or the ellipse edge's mirror image), so
-    /// the cells overlap a little and leave no gap. Centred, so a law linear in slip has
+    /// Length of the sample's cell, fraction of the semi-major axis: centred on the sample,
+    /// as long as the larger of its gaps to the neighbours (or twice its distance to the
+    /// ellipse's edge), so it reaches past both midpoints: the cells overlap a little and
+    /// leave no gap. Centred, so a law linear in slip has
     /// its point value as its cell mean (the rule keeps Gauss's exactness there); without
     /// gaps, so the traction has no flat step where the zero slip falls between two cells.
     pub cell: f64,
