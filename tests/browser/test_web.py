@@ -207,6 +207,22 @@ def run(page, base, shots, console_errors):
         page.locator("#fmax").dispatch_event("change")
         expect(page.locator("#spectrum-error")).to_have_text("")
 
+    def a_download_button_keeps_a_press_across_a_redraw():
+        # the spectrum reloads and redraws between the press and the release (a new
+        # range); a button rebuilt by the redraw would lose the click, and with it the file
+        button = page.locator('#spectrum-chart >> xpath=.. >> [data-download="svg"]')
+        button.scroll_into_view_if_needed()
+        box = button.bounding_box()
+        page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        page.mouse.down()
+        with page.expect_response(lambda r: "/spectra?" in r.url):
+            page.locator("#fmax").evaluate("e => { e.value = '2100'; e.dispatchEvent(new Event('change')); }")
+        expect(page.locator("#spectrum-chart .tick").last).to_be_attached()
+        page.evaluate("() => new Promise((r) => requestAnimationFrame(() => setTimeout(r, 50)))")
+        with page.expect_download(timeout=10_000) as d:
+            page.mouse.up()
+        assert d.value.suggested_filename.endswith(".svg"), d.value.suggested_filename
+
     def a_result_offers_downloads():
         name, data = download(page, '#spectrum-chart >> xpath=.. >> [data-download="svg"]')
         assert name.endswith(".svg") and data.lstrip().startswith(b"<svg") and b"BPFO" in data, (name, data[:80])
@@ -478,6 +494,7 @@ def run(page, base, shots, console_errors):
     check("compound preset, 0.1 s, to succeeded with a BPFO marker", compound_preset_to_success)
     check("no two labels of the spectrum overlap (1280 and 360 px, raw and best, linear and dB)", spectrum_labels_never_overlap)
     check("zoom, pan back and read the spectrum; a bad range is an error", spectrum_zoom_and_readout)
+    check("a download button keeps a press across the chart's redraw", a_download_button_keeps_a_press_across_a_redraw)
     check("a result offers SVG, PNG and CSV downloads", a_result_offers_downloads)
     check("the SVG endpoint draws the page's chart", page_and_endpoint_draw_the_same_chart)
     check("switch the spectrum to the best component", switch_to_best_component)

@@ -67,14 +67,19 @@ const csv = (rows) => new Blob([rows.map((r) => r.map(csvCell).join(",")).join("
 /** A file name from a job's name: letters, digits and dashes. */
 const slug = (s) => (s || "job").toLowerCase().replace(/[^a-z0-9]+/g, "-").replace(/^-|-$/g, "").slice(0, 60) || "job";
 
-/** SVG and PNG buttons for the chart in `box`, named `name`. */
+/** SVG and PNG buttons for the chart in `box`, named `name`. `name` and `title` may be
+ * functions, read at the click: a chart that redraws keeps its buttons, since a button
+ * replaced between a press and its release loses the click. */
 function chartDownloads(box, name, title) {
-  const svgText = () => svgDocument(box, title);
+  const now = (v) => (typeof v === "function" ? v() : v);
+  const svgText = () => svgDocument(box, now(title));
+  // nothing to save before the chart is drawn
   return h("span", { class: "downloads" },
-    h("button", { type: "button", "data-download": "svg", onclick: () => save(new Blob([svgText()], { type: "image/svg+xml" }), `${name}.svg`) }, "SVG"),
+    h("button", { type: "button", "data-download": "svg", onclick: () => box.querySelector("svg") && save(new Blob([svgText()], { type: "image/svg+xml" }), `${now(name)}.svg`) }, "SVG"),
     h("button", { type: "button", "data-download": "png", onclick: async () => {
       const s = box.querySelector("svg");
-      save(await pngBlob(svgText(), Number(s.getAttribute("width")), Number(s.getAttribute("height"))), `${name}.png`);
+      if (!s) return;
+      save(await pngBlob(svgText(), Number(s.getAttribute("width")), Number(s.getAttribute("height"))), `${now(name)}.png`);
     } }, "PNG"));
 }
 
@@ -661,11 +666,15 @@ function spectrumPlot(kind, id, a, name) {
   const info = h("span", { class: "muted", id: "spectrum-info" });
   const err = h("span", { class: "error", id: "spectrum-error", "aria-live": "polite" });
   const readout = h("span", { class: "readout", id: "spectrum-readout" });
-  const title = h("h3", {});
+  const headingText = h("span", { id: "spectrum-heading" });
+  const heading = () => `${what()}: ${name}`;
+  // built once: a redraw (zoom, range, the spectrum's reload) changes only the heading's text
+  const downloads = chartDownloads(chart, `${slug(name)}-spectrum`, heading);
+  const title = h("h3", {}, headingText, " ", downloads);
   const legendBox = h("div", {});
   const unit = kind === "simulations" ? "m/s²" : "unit of the signal";
   let s = null, range = null;
-  const what = () => (s.kind === "raw" ? "raw envelope spectrum" : `level ${s.level} envelope spectrum${s.kind === "best_component" ? " (best component)" : ""}`);
+  const what = () => (!s ? "envelope spectrum" : s.kind === "raw" ? "raw envelope spectrum" : `level ${s.level} envelope spectrum${s.kind === "best_component" ? " (best component)" : ""}`);
   const draw = () => {
     const db = scale.value === "db";
     const x = [], y = scaled(s.amplitude, db).slice(1);
@@ -675,12 +684,9 @@ function spectrumPlot(kind, id, a, name) {
     const peaks = s.peaks.filter((p) => isFinite(p.identified_hz)).map((p) => ({
       x: p.identified_hz, y: at(p.identified_hz), name: ID_NAMES[p.name] ?? p.name.toLowerCase(),
       label: markerLabel(ID_NAMES[p.name] ?? p.name, p.harmonic), text: p.detected ? `${p.error_pct >= 0 ? "+" : ""}${fmt(p.error_pct)} %` : null }));
-    const heading = `${what()}: ${name}`;
-    const downloads = chartDownloads(chart, `${slug(name)}-spectrum`, heading);
-    downloads.append(h("button", { type: "button", "data-download": "spectrum-csv", onclick: downloadCsv }, "CSV"));
-    title.replaceChildren(heading, " ", downloads);
+    headingText.textContent = heading();
     lineChart(chart, { series: [{ x, y, color: SERIES[0], name }], xLabel: "frequency (Hz)", xUnit: "Hz", yUnit: db ? "dB" : unit,
-      yLabel: db ? `envelope amplitude (dB re 1 ${unit})` : `envelope amplitude (${unit})`, title: heading, yFromZero: !db,
+      yLabel: db ? `envelope amplitude (dB re 1 ${unit})` : `envelope amplitude (${unit})`, title: heading(), yFromZero: !db,
       // 80 dB under the highest line: the noise floor, not the numerical zeros below it
       yMin: db ? Math.max(...y.filter(isFinite)) - 80 : undefined,
       range: range || [0, s.fmax], markers, peaks, readout, onZoom: (lo, hi) => { range = [lo, hi]; fmin.value = fmt(lo); draw(); } });
@@ -693,6 +699,7 @@ function spectrumPlot(kind, id, a, name) {
     if (!r.ok) { err.textContent = `CSV refused (${r.status})`; return; }
     save(await r.blob(), `${slug(name)}-spectrum-${which.value.replace(":", "-")}.csv`);
   };
+  downloads.append(h("button", { type: "button", "data-download": "spectrum-csv", onclick: downloadCsv }, "CSV"));
   const query = () => {
     const [k, level] = which.value.split(":");
     const q = new URLSearchParams({ kind: k, fmax: fmax.value.trim(), harmonics: 3 });
