@@ -505,20 +505,26 @@ impl StripSums<'_> {
             let h = root + self.base;
             let centre = c0 + h * c1;
             let across = y * c2;
-            // d/dy of `centre` is odd in y, of `across` even
             let cell = self.a_eff * pair.cell;
-            let d_centre = (-y / root * cell) * c1;
-            let d_across = cell * c2;
             let law = pair_law(pair.chord);
-            let tr_minus =
-                (self.q * pair.weight_minus) * law.cell_mean(centre - across, -d_centre + d_across);
-            let tr_plus =
-                (self.q * pair.weight_plus) * law.cell_mean(centre + across, d_centre + d_across);
+            let tr_minus = (self.q * pair.weight_minus)
+                * law.cell_mean(centre - across, self.slip_change(-y, root, cell));
+            let tr_plus = (self.q * pair.weight_plus)
+                * law.cell_mean(centre + across, self.slip_change(y, root, cell));
             f_tr += tr_minus + tr_plus;
             f_h += h * (tr_minus + tr_plus);
             f_y += y * (tr_plus - tr_minus);
         }
         (f_tr, f_h, f_y)
+    }
+
+    /// The slip's change across a cell of length `cell` (m) centred on the strip at `y`
+    /// (m/s): `dv/dy cell` with `dv/dy = h'(y) c1 + c2` and `h'(y) = -y / root`, `root`
+    /// being `sqrt(r'^2 - y^2)`, which a strip and its mirror share.
+    #[inline(always)]
+    fn slip_change(&self, y: f64, root: f64, cell: f64) -> Vector3<f64> {
+        let [_, c1, c2] = self.c;
+        (-y / root * cell) * c1 + cell * c2
     }
 }
 
@@ -536,6 +542,44 @@ mod tests {
             alpha0: 1.5e-8,
             z: roelands_z(4.44e-3, 1.5e-8),
             limiting: 0.047,
+        }
+    }
+
+    /// The cell's slip change is the slip's derivative along the strip line times the
+    /// cell, at both strips of a pair, with every coefficient nonzero: against a central
+    /// difference of `c0 + h(y) c1 + y c2` over a cell of 1e-4 of the semi-axis, whose
+    /// error is `O(cell^2)` of the change, ~1e-8 here, so 1e-7.
+    #[test]
+    fn cell_slip_change_is_the_slips_derivative() {
+        let params = params();
+        let (a_eff, rp, base) = (2.0e-4, 2.9e-3, -1.0e-5);
+        let sums = StripSums {
+            p: &params,
+            a_eff,
+            rp,
+            base,
+            q: 100.0,
+            c: [
+                Vector3::new(0.3, -0.2, 0.01),
+                Vector3::new(40.0, 25.0, -3.0),
+                Vector3::new(-12.0, 5.0, 8.0),
+            ],
+        };
+        let slip = |y: f64| {
+            let [c0, c1, c2] = sums.c;
+            c0 + ((rp * rp - y * y).sqrt() + base) * c1 + y * c2
+        };
+        let cell = 1e-4 * a_eff;
+        for xi in [0.0, 0.3, 0.9] {
+            for y in [xi * a_eff, -xi * a_eff] {
+                let root = (rp * rp - y * y).sqrt();
+                let got = sums.slip_change(y, root, cell);
+                let want = slip(y + 0.5 * cell) - slip(y - 0.5 * cell);
+                assert!(
+                    (got - want).norm() <= 1e-7 * want.norm(),
+                    "y {y}: {got} against {want}"
+                );
+            }
         }
     }
 
