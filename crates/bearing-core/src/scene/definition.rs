@@ -514,7 +514,8 @@ pub struct Outputs {
 impl Traction {
     /// The paper's eq. 15 with the ADORE sample deck's coefficients (MIL-L-23699: mu0 0,
     /// mu_max 0.05 at 1 m/s, mu_inf 0.036; `mu(0) = 0` keeps traction continuous through
-    /// zero slip): the preset's curve before the rheology law became its default.
+    /// zero slip): the preset's traction today; the rheology law replaces it once the
+    /// integration makes that law affordable (issues 33-34).
     pub const PAPER_CURVE: Traction = Traction::Abcd {
         a: -0.036,
         b: 0.1018,
