@@ -323,6 +323,20 @@ pub fn catalogue() -> Vec<StressScene> {
             0.06,
             None,
         ),
+        s(
+            "fast_ramp_rheology",
+            "start: the fast ramp under the rheology law with `auto_slip`: the cage whirls, \
+             and `slip_implicit` takes its land film into the Jacobian",
+            |t| {
+                let mut s = ramp(t, 1_000.0, 10_000.0, 0.01);
+                s.lubricant.traction = Traction::RHEOLOGY;
+                s.solver.integrator = Integrator::AutoSlip;
+                s
+            },
+            runs(FAST_START_AUTO),
+            0.06,
+            None,
+        ),
         // Run length and output rate.
         s(
             "long_run",

@@ -63,7 +63,10 @@ fn other_integrators_agree_with_quasi_static_and_the_default() {
 /// same mean cage speed as `rk4_fsal` within 1e-5 (issue 34's cage-speed accuracy; measured
 /// 2026-11-28 with ROS34PRw 3.7e-6 apart, `auto_slip` 8.4e-6; with ROS34PW2 6.4e-6 and
 /// 6.3e-6; with the law's cell means 8.1e-6 and 7.9e-6, the three methods within 3.6e-6 of
-/// each other at 1e-8) and far fewer evaluations, the slip no longer setting the step (measured 39k
+/// each other at 1e-8; with the cell's across part split at saturation 5.4e-6 and 9.4e-6,
+/// close to the bound; a land film always implicit in `slip_implicit` made it 1.1e-5, so
+/// the film goes implicit only where the explicit part cannot take it) and far fewer
+/// evaluations, the slip no longer setting the step (measured 39k
 /// against 210k, 51k with ROS34PW2; half leaves room). (0.05 s is 1.7 shaft turns: too short for the load-zone bins of the
 /// quasi-static comparison, which the 10000 rpm tests above make.)
 #[test]

@@ -93,6 +93,7 @@ stress_tests!(
     from_rest,
     fast_ramp_whirl,
     fast_ramp_auto,
+    fast_ramp_rheology,
     long_run,
     too_long_run,
     fine_output,

@@ -292,7 +292,14 @@ mod tests {
         }
     }
     impl JacobianSystem for Relaxing {
-        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
+        fn jacobian(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            f0: &[f64],
+            _h: f64,
+            jac: &mut BlockJacobian,
+        ) -> u64 {
             let (w, k) = (self.w, self.k);
             jac.evaluate(t, y, f0, &[1.0; 3], |t, y, dy| {
                 Relaxing { w, k }.rhs(t, y, dy)

@@ -26,9 +26,10 @@ pub trait OdeSystem {
 
 /// A system that can also fill a block-diagonal Jacobian approximation.
 pub trait JacobianSystem: OdeSystem {
-    /// Fill `jac` at `(t, y)` with `f0 = f(t, y)`; returns what that cost, in right-hand
-    /// side evaluations (for the statistics).
-    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64;
+    /// Fill `jac` at `(t, y)` with `f0 = f(t, y)`, for steps of about `h` (s; a problem may
+    /// leave out what an explicit step of that size resolves); returns what that cost, in
+    /// right-hand side evaluations (for the statistics).
+    fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], h: f64, jac: &mut BlockJacobian) -> u64;
     /// Accepted steps one Jacobian may serve (a W-method keeps its order with any
     /// approximation; a cheap partial Jacobian is best kept fresh).
     fn jacobian_max_age(&self) -> u32 {

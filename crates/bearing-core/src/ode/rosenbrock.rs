@@ -89,7 +89,7 @@ impl Rosenbrock {
     ) -> f64 {
         let n = y.len();
         if self.jac_age >= self.jac_max_age.min(sys.jacobian_max_age()) {
-            stats.rhs_evals += sys.jacobian(t, y, f0, &mut self.jac);
+            stats.rhs_evals += sys.jacobian(t, y, f0, h, &mut self.jac);
             self.jac_age = 0;
             self.factored_for = f64::NAN;
         }
@@ -209,7 +209,14 @@ mod tests {
         }
     }
     impl JacobianSystem for Test {
-        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
+        fn jacobian(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            f0: &[f64],
+            _h: f64,
+            jac: &mut BlockJacobian,
+        ) -> u64 {
             let k = self.k;
             jac.evaluate(t, y, f0, &[1.0; 3], |t, y, dy| Test { k }.rhs(t, y, dy));
             jac.cost_in_rhs() as u64
@@ -309,7 +316,14 @@ mod tests {
         }
     }
     impl JacobianSystem for Logistic {
-        fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], jac: &mut BlockJacobian) -> u64 {
+        fn jacobian(
+            &mut self,
+            t: f64,
+            y: &[f64],
+            f0: &[f64],
+            _h: f64,
+            jac: &mut BlockJacobian,
+        ) -> u64 {
             jac.evaluate(t, y, f0, &[1.0], |t, y, dy| Logistic.rhs(t, y, dy));
             jac.cost_in_rhs() as u64
         }

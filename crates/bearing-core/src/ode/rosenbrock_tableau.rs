@@ -211,6 +211,11 @@ impl Tableau {
     }
 }
 
+/// How far ROS34PRw's explicit part is stable on the imaginary axis, `h |lambda|`
+/// (2.783 measured by `the_explicit_part_of_ros34prw_is_stable_on_the_imaginary_axis_as_far_as_rk4`,
+/// rounded down): a mode faster than this for the step has to be in the Jacobian.
+pub const ROS34PRW_EXPLICIT_STABILITY: f64 = 2.78;
+
 #[cfg(test)]
 mod tests {
     use super::*;

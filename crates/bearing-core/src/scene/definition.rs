@@ -375,8 +375,9 @@ pub enum Integrator {
     /// stiff contact modes.
     RosenbrockW,
     /// The Rosenbrock-W method ROS34PRw with only each ball's velocity block in its
-    /// Jacobian: implicit in the traction's slip relaxation (the stiffness of a
-    /// rheology-based traction law, worst at low speed), explicit in the contact's elastic
+    /// Jacobian, and the cage's land film where it is too stiff for the method's explicit
+    /// part (a whirling cage): implicit in the traction's slip relaxation (the stiffness of
+    /// a rheology-based traction law, worst at low speed), explicit in the contact's elastic
     /// modes, with RK4's stability and about its damping on them (docs/reference/model.md,
     /// "Time integration").
     SlipImplicit,
