@@ -691,6 +691,8 @@ function spectrumPlot(kind, id, a, name) {
       yMin: db ? Math.max(...y.filter(isFinite)) - 80 : undefined,
       range: range || [0, s.fmax], markers, peaks, readout, onZoom: (lo, hi) => { range = [lo, hi]; fmin.value = fmt(lo); draw(); } });
     chart.dataset.kind = s.kind;
+    // the drawn range, Hz: what a redraw changes
+    chart.dataset.range = (range || [0, s.fmax]).map(fmt).join(" to ");
     legendBox.replaceChildren(spectrumLegend(markers, peaks.some((p) => p.text)));
     info.textContent = `bin width ${fmt(s.df)} Hz`;
   };

@@ -32,7 +32,7 @@ pub struct BearingSystem<'m> {
     /// Quasi-static balls: their balance at the last accepted step and how it follows
     /// the rings (Newton's start inside the next step).
     pub track: BalanceTrack,
-    /// Scratch state for the land film's Jacobian (reduced levels).
+    /// Scratch state for the land film's Jacobian.
     land_y: Vec<f64>,
     /// What [`JacobianSystem::jacobian`] fills.
     pub scope: JacobianScope,
@@ -87,7 +87,8 @@ impl<'m> BearingSystem<'m> {
         let cols = [cage::Y, cage::Z, cage::Y_DOT, cage::Z_DOT];
         for (i, row) in [cage::Y_DOT, cage::Z_DOT].into_iter().enumerate() {
             for (j, col) in cols.into_iter().enumerate() {
-                jac.set(c + row, c + col, on * rows[i][j]);
+                // a select, not a product: an excluded block is zero even if a row is not finite
+                jac.set(c + row, c + col, if include { rows[i][j] } else { 0.0 });
             }
         }
     }
@@ -179,7 +180,9 @@ impl JacobianSystem for BearingSystem<'_> {
     /// every other entry zero. What holds a reduced level's explicit step in the ramp is
     /// that film (docs/lab/benchmarks.md, "Fidelity levels"), and a whole block Jacobian
     /// there both costs 31 quasi-static right-hand sides and, aged, let the cage's
-    /// radial velocity run away (the step underflowed within 3-8 ms).
+    /// radial velocity run away (the step underflowed within 3-8 ms). `BallVelocities`
+    /// at full fidelity: the balls' velocity blocks, and the land film where it is too
+    /// stiff for the method's explicit part at a step of `h`.
     fn jacobian(&mut self, t: f64, y: &[f64], f0: &[f64], h: f64, jac: &mut BlockJacobian) -> u64 {
         let m = self.model;
         // the grouped columns by differences: every block (`Blocks` at full fidelity) or the
@@ -201,10 +204,13 @@ impl JacobianSystem for BearingSystem<'_> {
             self.set_land_film(&rows, true, jac);
         } else if self.scope == JacobianScope::BallVelocities {
             // The land film goes implicit only where the explicit part could not be stable
-            // on it at this step: a whirling cage's film (`h |lambda|` 3.0-3.8 when held
-            // explicit on the 10 ms ramp under the rheology law), not a quiet cage's
-            // (median 0.8-0.9, at most 2.6, at 2000 and 10000 rpm), whose mean speed an
-            // implicit film moved by 6e-5 at 2000 rpm (docs/lab/benchmarks.md)
+            // on it at this step: a whirling cage's film (`h` times the bound 3.0-3.8 when
+            // held explicit on the 10 ms ramp under the rheology law), not a quiet cage's
+            // (median 0.8-0.9, at most 2.6, at 2000 and 10000 rpm), whose mean speed's
+            // error an always-implicit film raised from 8e-6 to 6e-5 at 2000 rpm
+            // (docs/lab/benchmarks.md). The choice holds as long as this Jacobian (up to
+            // 20 steps); a step the excluded film cannot take is rejected, and a rejection
+            // with an aged Jacobian refreshes it.
             let rows = self.land_film_rows(t, y);
             let stiff = h * land_film_rate(&rows) > ROS34PRW_EXPLICIT_STABILITY;
             self.set_land_film(&rows, stiff, jac);
