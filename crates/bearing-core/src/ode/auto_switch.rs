@@ -277,6 +277,7 @@ mod tests {
     /// An undamped oscillator of angular frequency `w` (rad/s) beside a component relaxing
     /// to it at rate `k` (1/s), the shape of a ball's slip beside its contact mode; the
     /// partial Jacobian holds the relaxing component only.
+    #[derive(Clone, Copy)]
     struct Relaxing {
         w: f64,
         k: f64,
@@ -291,22 +292,7 @@ mod tests {
             dy[2] = -self.k * (y[2] - y[0]);
         }
     }
-    impl JacobianSystem for Relaxing {
-        fn jacobian(
-            &mut self,
-            t: f64,
-            y: &[f64],
-            f0: &[f64],
-            _h: f64,
-            jac: &mut BlockJacobian,
-        ) -> u64 {
-            let (w, k) = (self.w, self.k);
-            jac.evaluate(t, y, f0, &[1.0; 3], |t, y, dy| {
-                Relaxing { w, k }.rhs(t, y, dy)
-            });
-            jac.cost_in_rhs() as u64
-        }
-    }
+    jacobian_by_differences!(Relaxing);
 
     /// Evaluations to integrate 1 s with `method`, and the oscillator's phase error at 1 s.
     fn evaluations<M: Method<Relaxing>>(k: f64, method: impl Fn(ErrorNorm) -> M) -> (u64, f64) {

@@ -14,6 +14,31 @@
 //! - the solver ([`solver::Solver`]) owns the state: accept and reject, landing on the end
 //!   time, dense output of the last step ([`hermite`]).
 
+/// Test problems whose Jacobian is differences of their own right-hand side (unit scales, the
+/// whole state one block): `JacobianSystem` for a `Copy` problem of at most 8 components.
+#[cfg(test)]
+macro_rules! jacobian_by_differences {
+    ($problem:ty) => {
+        impl crate::ode::problem::JacobianSystem for $problem {
+            fn jacobian(
+                &mut self,
+                t: f64,
+                y: &[f64],
+                f0: &[f64],
+                _h: f64,
+                jac: &mut crate::ode::block_jacobian::BlockJacobian,
+            ) -> u64 {
+                let mut problem = *self;
+                let scale = [1.0; 8];
+                jac.evaluate(t, y, f0, &scale[..y.len()], |t, y, dy| {
+                    crate::ode::problem::OdeSystem::rhs(&mut problem, t, y, dy)
+                });
+                jac.cost_in_rhs() as u64
+            }
+        }
+    };
+}
+
 pub mod auto_switch;
 pub mod block_jacobian;
 pub mod control;

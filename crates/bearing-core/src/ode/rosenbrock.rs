@@ -195,6 +195,7 @@ mod tests {
     /// y' = -y^2 + sin(t) style nonlinear scalar pair with an exact Jacobian-free check:
     /// the Van der Pol-free test here is y1' = y2, y2' = -y1 (oscillator) plus a stiff
     /// decaying component y3' = -k (y3 - cos t).
+    #[derive(Clone, Copy)]
     struct Test {
         k: f64,
     }
@@ -208,20 +209,7 @@ mod tests {
             dy[2] = -self.k * (y[2] - t.cos());
         }
     }
-    impl JacobianSystem for Test {
-        fn jacobian(
-            &mut self,
-            t: f64,
-            y: &[f64],
-            f0: &[f64],
-            _h: f64,
-            jac: &mut BlockJacobian,
-        ) -> u64 {
-            let k = self.k;
-            jac.evaluate(t, y, f0, &[1.0; 3], |t, y, dy| Test { k }.rhs(t, y, dy));
-            jac.cost_in_rhs() as u64
-        }
-    }
+    jacobian_by_differences!(Test);
 
     /// Both tables the engine uses.
     fn tableaux() -> [(&'static str, Tableau); 2] {
@@ -306,6 +294,7 @@ mod tests {
     }
 
     /// Logistic growth y' = y (1 - y), exact y = 1 / (1 + 9 e^-t) from y(0) = 0.1.
+    #[derive(Clone, Copy)]
     struct Logistic;
     impl OdeSystem for Logistic {
         fn dim(&self) -> usize {
@@ -315,19 +304,7 @@ mod tests {
             dy[0] = y[0] * (1.0 - y[0]);
         }
     }
-    impl JacobianSystem for Logistic {
-        fn jacobian(
-            &mut self,
-            t: f64,
-            y: &[f64],
-            f0: &[f64],
-            _h: f64,
-            jac: &mut BlockJacobian,
-        ) -> u64 {
-            jac.evaluate(t, y, f0, &[1.0], |t, y, dy| Logistic.rhs(t, y, dy));
-            jac.cost_in_rhs() as u64
-        }
-    }
+    jacobian_by_differences!(Logistic);
 
     #[test]
     #[allow(clippy::single_range_in_vec_init)] // one block of one component
