@@ -16,6 +16,7 @@ pub fn simulation_bytes(scene: &Scene) -> f64 {
         + 2 * usize::from(o.cage_speed) // speed and eccentricity
         + 3 * usize::from(o.inner_ring_displacement)
         + 2 * usize::from(o.contact_loads_ball.is_some())
+        + 3 * usize::from(o.ball_pocket.is_some())
         + 1; // the shaft angle, kept for exports
     let samples = scene.solver.duration * scene.solver.sample_rate;
     4.0 * channels as f64 * samples + spectra_bytes(samples, AnalysisOptions::default().levels)

@@ -27,6 +27,10 @@ pub struct RunArgs {
     /// Record the contact loads of this ball (0-based).
     #[arg(long)]
     pub contact_loads_ball: Option<usize>,
+    /// Record where this ball (0-based) runs against its cage pocket: its azimuth, its
+    /// orbital speed less the cage's and its offset in the pocket.
+    #[arg(long)]
+    pub ball_pocket: Option<usize>,
     /// Output JSON file.
     #[arg(long)]
     pub out: std::path::PathBuf,
@@ -46,6 +50,9 @@ pub fn main(args: RunArgs) -> CliResult {
     scene.outputs.inner_ring_displacement |= args.inner_ring;
     if args.contact_loads_ball.is_some() {
         scene.outputs.contact_loads_ball = args.contact_loads_ball;
+    }
+    if args.ball_pocket.is_some() {
+        scene.outputs.ball_pocket = args.ball_pocket;
     }
     let export_format = match &args.export {
         None => None,

@@ -35,6 +35,11 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         3,
         "101ca918439b7b7ccbb553961b30c3877ba1f8c4dcea534c0bade1605ad6219c",
     ),
+    // `outputs.ball_pocket`: one ball's azimuth, lead on the cage and offset in its pocket
+    (
+        4,
+        "0f41803eec0a0b47713e352e5f65bcaf9845d2b6dfae5763bdf9c9a79ffe634a",
+    ),
 ];
 
 /// Keys that document a schema without changing what parses.

@@ -4,10 +4,11 @@
 
 use super::ball_equilibrium::BalanceTrack;
 use super::output::{Channel, Channels};
-use super::rhs::output_forces;
+use super::rhs::{output_forces, pocket_offset};
 use crate::model::layout::{ball, cage};
 use crate::model::Model;
 use crate::ode::hermite::hermite;
+use crate::physics::defect::wrap_angle;
 use crate::scene::Outputs;
 
 /// Which channels to record and how.
@@ -20,6 +21,8 @@ pub struct Recorder {
     cage_ecc: Option<Vec<f64>>,
     inner: Option<[Vec<f64>; 3]>,
     loads: Option<(usize, Vec<f64>, Vec<f64>)>,
+    /// Ball index, then its azimuth, its orbital speed less the cage's, its pocket offset.
+    pocket: Option<(usize, [Vec<f64>; 3])>,
     scratch_y: Vec<f64>,
 }
 
@@ -45,6 +48,9 @@ impl Recorder {
                     Vec::with_capacity(n_samples),
                 )
             }),
+            pocket: outputs
+                .ball_pocket
+                .map(|k| (k, std::array::from_fn(|_| Vec::with_capacity(n_samples)))),
             scratch_y: vec![0.0; n],
         }
     }
@@ -125,6 +131,12 @@ impl Recorder {
                 li.push(out.ball_loads[0]);
                 lo.push(out.ball_loads[1]);
             }
+            if let Some((k, [az, lead, offset])) = self.pocket.as_mut() {
+                let b = m.layout.ball(*k);
+                az.push(wrap_angle(self.scratch_y[b + ball::THETA]));
+                lead.push(self.scratch_y[b + ball::THETA_DOT] - self.scratch_y[c + cage::W_X]);
+                offset.push(pocket_offset(m, ts, &self.scratch_y, *k));
+            }
             self.next += 1;
         }
     }
@@ -184,6 +196,19 @@ impl Recorder {
                 unit: "N".into(),
                 data: lo,
             });
+        }
+        if let Some((k, [az, lead, offset])) = self.pocket {
+            for (name, unit, data) in [
+                ("azimuth", "rad", az),
+                ("cage_lead", "rad/s", lead),
+                ("pocket_offset", "m", offset),
+            ] {
+                ch.push(Channel {
+                    name: format!("ball{k}_{name}"),
+                    unit: unit.into(),
+                    data,
+                });
+            }
         }
         Channels {
             sample_rate: self.fs,

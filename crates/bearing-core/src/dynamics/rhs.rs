@@ -203,6 +203,19 @@ fn pocket_of(
     )
 }
 
+/// Offset of ball `j`'s centre from its pocket's axis along the orbit, m: where the ball sits
+/// in its clearance, positive toward increasing azimuth (ahead of the pocket's centre when
+/// the shaft turns positively). The cage as the contact functions see it.
+pub fn pocket_offset(m: &Model, t: f64, y: &[f64], j: usize) -> f64 {
+    let (inner, outer) = ring_motions(m, t, y);
+    let cage = cage_at(m, y, &inner, &outer);
+    let pocket = Azimuth::new(cage.spin_angle).plus(&m.pocket_azimuths[j]);
+    let centre = cage.centre + m.pocket.pocket_radius * (cage.rot * pocket.e_r());
+    let b = m.layout.ball(j);
+    let ball = ball_motion(y, b, &Azimuth::new(y[b + ball::THETA]));
+    (ball.centre - centre).dot(&(cage.rot * pocket.e_t()))
+}
+
 /// Pedestal acceleration `[y, z]` (m/s^2, eq. 29) from the outer ring's forces alone.
 #[inline]
 fn pedestal_accel(m: &Model, y: &[f64], f_outer: &Vector3<f64>) -> [f64; 2] {

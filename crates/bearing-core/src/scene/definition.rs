@@ -510,6 +510,15 @@ pub struct Outputs {
     pub inner_ring_displacement: bool,
     /// Record the inner and outer contact loads (N) of this ball (0-based index).
     pub contact_loads_ball: Option<usize>,
+    /// Record where this ball (0-based index) runs against its cage pocket: its azimuth
+    /// (rad, 0 = +Z, the direction of a radial load at `radial_load_angle` 0), its orbital
+    /// speed less the cage's (rad/s) and its centre's offset from the pocket's axis along
+    /// the orbit (m, + toward increasing azimuth, ahead when the shaft turns positively;
+    /// within the pocket's radial clearance, plus any contact penetration). Over many orbits
+    /// they show where round the orbit the balls run ahead of the cage and where behind it,
+    /// which sets the cage slip (docs/reference/model.md, "Cage motion in the summary").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ball_pocket: Option<usize>,
 }
 
 impl Traction {

@@ -455,12 +455,20 @@ impl Scene {
                 );
             }
         }
-        if let Some(k) = self.outputs.contact_loads_ball {
-            if k >= b.ball_count {
-                c.push(
-                    "outputs.contact_loads_ball",
-                    format!("must be < bearing.ball_count ({})", b.ball_count),
-                );
+        for (path, ball) in [
+            (
+                "outputs.contact_loads_ball",
+                self.outputs.contact_loads_ball,
+            ),
+            ("outputs.ball_pocket", self.outputs.ball_pocket),
+        ] {
+            if let Some(k) = ball {
+                if k >= b.ball_count {
+                    c.push(
+                        path,
+                        format!("must be < bearing.ball_count ({})", b.ball_count),
+                    );
+                }
             }
         }
 
@@ -720,6 +728,24 @@ mod tests {
         let mut s = scene();
         s.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.0 };
         s.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
+        assert!(s.validate().is_ok());
+    }
+
+    #[test]
+    fn recorded_balls_must_exist() {
+        let mut s = scene();
+        s.outputs.contact_loads_ball = Some(16);
+        s.outputs.ball_pocket = Some(16);
+        let errs = s.validate().unwrap_err().0;
+        for path in ["outputs.contact_loads_ball", "outputs.ball_pocket"] {
+            let e = errs
+                .iter()
+                .find(|e| e.path == path)
+                .unwrap_or_else(|| panic!("{errs:?}"));
+            assert_eq!(e.message, "must be < bearing.ball_count (16)");
+        }
+        s.outputs.contact_loads_ball = Some(15);
+        s.outputs.ball_pocket = Some(15);
         assert!(s.validate().is_ok());
     }
 
