@@ -437,7 +437,7 @@ fn all_outputs(mut s: Scene) -> Scene {
         cage_speed: true,
         inner_ring_displacement: true,
         contact_loads_ball: Some(0),
-        ball_pocket: None,
+        ball_pocket: Some(0),
     };
     s
 }

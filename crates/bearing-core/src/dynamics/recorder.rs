@@ -21,7 +21,8 @@ pub struct Recorder {
     cage_ecc: Option<Vec<f64>>,
     inner: Option<[Vec<f64>; 3]>,
     loads: Option<(usize, Vec<f64>, Vec<f64>)>,
-    /// Ball index, then its azimuth, its orbital speed less the cage's, its pocket offset.
+    /// Ball index, then its azimuth (rad), its orbital speed less the cage's (rad/s) and
+    /// its offset in its pocket (m).
     pocket: Option<(usize, [Vec<f64>; 3])>,
     scratch_y: Vec<f64>,
 }
@@ -131,9 +132,9 @@ impl Recorder {
                 li.push(out.ball_loads[0]);
                 lo.push(out.ball_loads[1]);
             }
-            if let Some((k, [az, lead, offset])) = self.pocket.as_mut() {
+            if let Some((k, [azimuth, lead, offset])) = self.pocket.as_mut() {
                 let b = m.layout.ball(*k);
-                az.push(wrap_angle(self.scratch_y[b + ball::THETA]));
+                azimuth.push(wrap_angle(self.scratch_y[b + ball::THETA]));
                 lead.push(self.scratch_y[b + ball::THETA_DOT] - self.scratch_y[c + cage::W_X]);
                 offset.push(pocket_offset(m, ts, &self.scratch_y, *k));
             }
@@ -197,9 +198,9 @@ impl Recorder {
                 data: lo,
             });
         }
-        if let Some((k, [az, lead, offset])) = self.pocket {
+        if let Some((k, [azimuth, lead, offset])) = self.pocket {
             for (name, unit, data) in [
-                ("azimuth", "rad", az),
+                ("azimuth", "rad", azimuth),
                 ("cage_lead", "rad/s", lead),
                 ("pocket_offset", "m", offset),
             ] {

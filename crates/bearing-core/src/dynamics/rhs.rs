@@ -205,7 +205,8 @@ fn pocket_of(
 
 /// Offset of ball `j`'s centre from its pocket's axis along the orbit, m: where the ball sits
 /// in its clearance, positive toward increasing azimuth (ahead of the pocket's centre when
-/// the shaft turns positively). The cage as the contact functions see it.
+/// the shaft turns positively). The pocket as [`pocket_contact`] places it, on the cage as
+/// the contact functions see it; the ball's centre from the state.
 pub fn pocket_offset(m: &Model, t: f64, y: &[f64], j: usize) -> f64 {
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
@@ -561,6 +562,56 @@ mod tests {
             solver.step(&mut sys).unwrap();
             each(solver.t(), solver.y(), &sys);
         }
+    }
+
+    /// [`pocket_offset`] against the geometry: a concentric cage turned to `phi`, ball `j`
+    /// at `delta` ahead of its pocket's centre at orbit radius `r` is `r sin(delta)` ahead;
+    /// a cage centre moved by `c` along the pocket's tangent takes `c` off it; and the
+    /// offset never exceeds what [`pocket_contact`] leaves of the clearance (its film).
+    /// Tolerance 1e-12 m: a few roundings of positions of ~2e-2 m.
+    #[test]
+    fn pocket_offset_is_the_balls_place_along_the_orbit() {
+        use crate::model::layout::cage;
+        let s = fault_case_scene("h7005c", FaultCase::None).unwrap();
+        let m = Model::new(&s.validated().unwrap());
+        let qs = solve_model(&m, m.shaft_speed(0.0)).unwrap();
+        let mut y = initial_state(&m, &qs);
+        let (j, phi, r) = (5, 0.3, 0.5 * 36e-3);
+        let c = m.layout.cage;
+        for k in [cage::Y, cage::Z, cage::TILT_Y, cage::TILT_Z] {
+            y[c + k] = 0.0;
+        }
+        y[c + cage::SPIN] = phi;
+        let pocket = Azimuth::new(phi).plus(&m.pocket_azimuths[j]);
+        let b = m.layout.ball(j);
+        y[b + ball::R] = r;
+        for delta in [-4e-3, -1e-3, 0.0, 2.5e-3, 9e-3] {
+            y[b + ball::THETA] = pocket.angle() + delta;
+            let got = pocket_offset(&m, 0.0, &y, j);
+            assert!((got - r * delta.sin()).abs() < 1e-12, "{delta}: {got}");
+            let (inner, outer) = ring_motions(&m, 0.0, &y);
+            let cm = cage_at(&m, &y, &inner, &outer);
+            let az = Azimuth::new(y[b + ball::THETA]);
+            let film = pocket_of(
+                &m,
+                &cm,
+                &Azimuth::new(cm.spin_angle),
+                j,
+                &ball_motion(&y, b, &az),
+            )
+            .film;
+            assert!(
+                got.abs() <= m.pocket.clearance - film + 1e-12,
+                "{delta}: {got} {film}"
+            );
+        }
+        // the cage centre moved 20 um along the pocket's tangent
+        y[b + ball::THETA] = pocket.angle();
+        let shift = 20e-6 * pocket.e_t();
+        y[c + cage::Y] = shift.y;
+        y[c + cage::Z] = shift.z;
+        let got = pocket_offset(&m, 0.0, &y, j);
+        assert!((got + 20e-6).abs() < 1e-12, "{got}");
     }
 
     /// Output samples evaluate only what the channels read ([`output_forces`]). Along a
