@@ -5,9 +5,10 @@
 //!
 //! Asserted: what the verdict achieves (issue 35). Printed, not asserted, because the
 //! verdict does not reach it (docs/lab/cwru.md, "Short simulated runs"): the healthy
-//! Table-1 scene, whose bearing strikes once per ball pass at a fixed place in the load
-//! zone (a burst in the 12.8-25.6 kHz band at every BPFO period, also at rtol 1e-7) and
-//! reads outer race.
+//! Table-1 scene, whose bearing strikes once per ball pass at a fixed place (a ball that has
+//! left the load zone catching its pocket's leading face about 155 deg from the load line:
+//! a burst in the 12.8-25.6 kHz band at every BPFO period, also at rtol 1e-7) and reads
+//! outer race.
 
 use bearing_core::scene::{fault_case_scene, FaultCase, Scene};
 use bearing_core::signal::verdict::{FaultType, Verdict};
