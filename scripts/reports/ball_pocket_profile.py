@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Where a ball runs against its cage, per sector of its orbit, from a `bearing-sim run`
 result recorded with `--ball-pocket K` (docs/reference/model.md, "Cage motion in the
-summary"; the table in docs/lab/paper-trends.md, "what sets the sign of the cage's slip").
+summary"; the table in docs/lab/paper-trends.md, "where the two laws' cage slips differ").
 
 Usage: python3 scripts/reports/ball_pocket_profile.py RESULT.json [T0 [SECTORS]]
 

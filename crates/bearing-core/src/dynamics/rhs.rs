@@ -7,7 +7,9 @@ use super::ball_equilibrium::{ball_equilibrium, BalanceTrack};
 use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion, LandOnCage};
-use crate::physics::cage_pocket::{pocket_contact, CageMotion, PocketResult};
+use crate::physics::cage_pocket::{
+    pocket_centre_and_axis, pocket_contact, CageMotion, PocketResult,
+};
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
@@ -211,7 +213,7 @@ pub fn pocket_offset(m: &Model, t: f64, y: &[f64], j: usize) -> f64 {
     let (inner, outer) = ring_motions(m, t, y);
     let cage = cage_at(m, y, &inner, &outer);
     let pocket = Azimuth::new(cage.spin_angle).plus(&m.pocket_azimuths[j]);
-    let centre = cage.centre + m.pocket.pocket_radius * (cage.rot * pocket.e_r());
+    let (centre, _) = pocket_centre_and_axis(&m.pocket, &cage, &pocket);
     let b = m.layout.ball(j);
     let ball = ball_motion(y, b, &Azimuth::new(y[b + ball::THETA]));
     (ball.centre - centre).dot(&(cage.rot * pocket.e_t()))

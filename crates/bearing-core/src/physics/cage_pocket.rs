@@ -64,6 +64,18 @@ pub struct PocketResult {
 /// Slip speed below which Coulomb friction is scaled down linearly, m/s.
 const FRICTION_REGULARIZATION: f64 = 1e-2;
 
+/// The pocket at inertial azimuth `pocket` on `cage`: its centre (m) and its axis (unit,
+/// radial in the cage's frame).
+#[inline]
+pub fn pocket_centre_and_axis(
+    p: &PocketParams,
+    cage: &CageMotion,
+    pocket: &Azimuth,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let axis = cage.rot * pocket.e_r();
+    (cage.centre + p.pocket_radius * axis, axis)
+}
+
 /// Interaction of a ball with the pocket at inertial azimuth `pocket` (the cage's spin
 /// angle plus the pocket's body angle).
 #[inline]
@@ -75,8 +87,7 @@ pub fn pocket_contact(
     ball_velocity: &Vector3<f64>,
     ball_omega: &Vector3<f64>,
 ) -> PocketResult {
-    let axis = cage.rot * pocket.e_r();
-    let centre = cage.centre + p.pocket_radius * axis;
+    let (centre, axis) = pocket_centre_and_axis(p, cage, pocket);
     // eq. 19: ball relative to the pocket; only the part across the pocket axis matters
     let w = ball_centre - centre;
     let w_perp = w - w.dot(&axis) * axis;
