@@ -82,6 +82,8 @@ fn start_errors(e: &QsError) -> ValidationErrors {
         } => vec![err("operating.applied_moment", e.to_string())],
         QsError::InvalidSpeed { .. } => vec![err("operating.speed.initial_rpm", e.to_string())],
         QsError::NoEquilibrium { .. } => vec![err("operating", e.to_string())],
+        // a run's start never asks for the pocket cycle
+        QsError::PocketCycle { .. } => vec![err("operating", e.to_string())],
     };
     ValidationErrors(list)
 }

@@ -158,7 +158,7 @@ pub fn cage_balance(
 
 /// The land film's torque on a cage running concentric with the ring that guides it, at
 /// `cage` rad/s (eqs. 23-28 at zero eccentricity: the film's viscous drag), N m.
-fn land_torque(m: &Model, inner: &RingMotion, outer: &RingMotion, cage: f64) -> f64 {
+pub(super) fn land_torque(m: &Model, inner: &RingMotion, outer: &RingMotion, cage: f64) -> f64 {
     let Some(lp) = &m.land else {
         return 0.0;
     };

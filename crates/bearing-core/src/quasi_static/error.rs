@@ -25,6 +25,9 @@ pub enum QsError {
         /// radial load needs, about `Fr tan(alpha0)` with the free contact angle, N.
         axial_load_needed: Option<f64>,
     },
+    /// The pocket cycle's ball integration failed, or no balance was bracketed.
+    #[error("the pocket-cycle cage balance failed: {reason}")]
+    PocketCycle { reason: String },
 }
 
 /// A radial load is carried only through contact angles: a ring that may not tilt needs at

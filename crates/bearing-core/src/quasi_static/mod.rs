@@ -6,9 +6,11 @@
 mod cage_balance;
 mod error;
 mod initial_state;
+mod pocket_cycle;
 mod solver;
 
 pub use cage_balance::{cage_balance, CageBalance};
 pub use error::QsError;
 pub use initial_state::initial_state;
-pub use solver::{solve, solve_model, QsBall, QsState, QuasiStaticSolution};
+pub use pocket_cycle::PocketCycle;
+pub use solver::{pocket_cycle, solve, solve_model, QsBall, QsState, QuasiStaticSolution};

@@ -196,7 +196,13 @@ fn ball_forces(
 }
 
 /// Equilibrium position of one ball for a given inner-ring position.
-fn solve_ball(m: &Model, inner: &RingMotion, w: f64, th: f64, warm: Option<[f64; 2]>) -> [f64; 2] {
+pub(super) fn solve_ball(
+    m: &Model,
+    inner: &RingMotion,
+    w: f64,
+    th: f64,
+    warm: Option<[f64; 2]>,
+) -> [f64; 2] {
     let er = e_r(th);
     let co = Vector3::new(m.outer_race.centre_axial, 0.0, 0.0) + m.outer_race.centre_radius * er;
     // An unloaded ball rests at the outer groove bottom under its centrifugal force.
@@ -579,4 +585,43 @@ impl QsState {
                 .collect(),
         }
     }
+}
+
+/// Azimuths at which the pocket cycle's ball centre is solved, over one orbit: 360 moved the
+/// curve's balanced cage speed at the paper's point by 3e-6 against 720 (2026-11-28).
+const POCKET_CYCLE_GRID: usize = 720;
+
+/// The cage speed by the pocket cycle ([`super::pocket_cycle`]) at `shaft_rpm`: one ball
+/// carried round its orbit at the equilibrium's ball positions, in a pocket turning with the
+/// cage, from the steady balance's cage speed and spins (or the kinematics where that found
+/// none). Takes about 0.5 s under the paper's curve, several seconds under the rheology law.
+pub fn pocket_cycle(
+    scene: &ValidScene,
+    shaft_rpm: f64,
+) -> Result<super::pocket_cycle::PocketCycle, QsError> {
+    if !(shaft_rpm.is_finite() && shaft_rpm > 0.0) {
+        return Err(QsError::InvalidSpeed { rpm: shaft_rpm });
+    }
+    let m = Model::new(scene);
+    let w = shaft_rpm * 2.0 * std::f64::consts::PI / 60.0;
+    let st = solve_model(&m, w)?;
+    let inner = inner_ring(&m, &st.ring, w);
+    let mut warm = None;
+    let grid: Vec<[f64; 2]> = (0..POCKET_CYCLE_GRID)
+        .map(|k| {
+            let th = k as f64 * std::f64::consts::TAU / POCKET_CYCLE_GRID as f64;
+            let p = solve_ball(&m, &inner, w, th, warm);
+            warm = Some(p);
+            p
+        })
+        .collect();
+    let (cage0, w0) = match &st.balance {
+        Some(b) => (b.cage_speed, b.spins[0]),
+        None => {
+            let k = st.kinematics[0];
+            (st.epicyclic_cage_speed, [k[1], k[2], 0.0])
+        }
+    };
+    super::pocket_cycle::pocket_cycle(&m, &inner, &outer_ring(), &grid, cage0, w0)
+        .map_err(|reason| QsError::PocketCycle { reason })
 }
