@@ -14,6 +14,7 @@ use axum::http::{HeaderMap, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use bearing_core::quasi_static::QuasiStaticSolution;
+use std::sync::atomic::Ordering;
 
 /// Quasi-static (Jones-Harris) equilibrium, answered directly
 #[utoipa::path(
@@ -23,7 +24,10 @@ use bearing_core::quasi_static::QuasiStaticSolution;
     operation_id = "solveQuasiStatic",
     request_body(
         content = QuasiStaticRequest,
-        examples(("preset" = (value = json!({"preset": "h7005c", "shaft_rpm": 10000}))))
+        examples(
+            ("preset" = (value = json!({"preset": "h7005c", "shaft_rpm": 10000}))),
+            ("with the pocket cycle" = (value = json!({"preset": "h7005c", "shaft_rpm": 10000, "pocket_cycle": true})))
+        )
     ),
     responses(
         (status = 200, description = "The equilibrium.", body = QuasiStaticSolution),
@@ -46,7 +50,11 @@ pub async fn solve(
         None => None,
         Some(v) => Some(from_value(v, "shaft_rpm")?),
     };
-    let scene = resolve_scene(&mut body, &["shaft_rpm"])?;
+    let with_cycle: bool = match body.remove("pocket_cycle") {
+        None => false,
+        Some(v) => from_value(v, "pocket_cycle")?,
+    };
+    let scene = resolve_scene(&mut body, &["shaft_rpm", "pocket_cycle"])?;
     let rpm = rpm.unwrap_or(scene.operating.speed.steady_rpm);
     if !rpm.is_finite() || rpm <= 0.0 || rpm > 100_000.0 {
         return Err(Problem::field(
@@ -54,9 +62,17 @@ pub async fn solve(
             "must be in (0, 100000] rev/min",
         ));
     }
-    let solved = run_direct(&state, "the quasi-static solver", move |_cancel| {
-        // a few milliseconds of Newton iterations: not worth a check
-        bearing_core::quasi_static::solve(&scene, rpm)
+    let solved = run_direct(&state, "the quasi-static solver", move |cancel| {
+        // a few milliseconds of Newton iterations: not worth a check; the pocket cycle
+        // asks between its trial cage speeds
+        let mut solution = bearing_core::quasi_static::solve(&scene, rpm)?;
+        if with_cycle {
+            let stop = || cancel.load(Ordering::SeqCst);
+            solution.pocket_cycle = Some(bearing_core::quasi_static::pocket_cycle_until(
+                &scene, rpm, &stop,
+            )?);
+        }
+        Ok::<_, bearing_core::quasi_static::QsError>(solution)
     })
     .await?;
     match solved {

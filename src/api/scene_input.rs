@@ -71,6 +71,10 @@ pub struct QuasiStaticRequest {
     /// Shaft speed, rev/min.
     #[schema(exclusive_minimum = 0.0, maximum = 100000.0, nullable = false)]
     pub shaft_rpm: Option<f64>,
+    /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer): about 0.5 s
+    /// under the paper's curve, several seconds under the rheology law.
+    #[schema(nullable = false)]
+    pub pocket_cycle: Option<bool>,
 }
 
 /// Resolve and validate the scene of a request body (the one validation a request gets).

@@ -22,12 +22,10 @@ pub struct QuasiStaticArgs {
 pub fn main(args: QuasiStaticArgs) -> CliResult {
     let scene = load_scene(&args.scene, None)?.validated()?;
     let rpm = args.rpm.unwrap_or(scene.operating.speed.steady_rpm);
-    let sol = bearing_core::quasi_static::solve(&scene, rpm)?;
-    let mut out = serde_json::to_value(&sol)?;
+    let mut sol = bearing_core::quasi_static::solve(&scene, rpm)?;
     if args.pocket_cycle {
-        let cycle = bearing_core::quasi_static::pocket_cycle(&scene, rpm)?;
-        out["pocket_cycle"] = serde_json::to_value(&cycle)?;
+        sol.pocket_cycle = Some(bearing_core::quasi_static::pocket_cycle(&scene, rpm)?);
     }
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    println!("{}", serde_json::to_string_pretty(&sol)?);
     Ok(())
 }

@@ -275,6 +275,50 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
     assert_eq!(body["errors"][0]["path"], "shaft_rpm");
 }
 
+/// The quasi-static answer carries the pocket-cycle cage speed only when asked, and then the
+/// engine's own.
+#[tokio::test]
+async fn quasi_static_gives_the_pocket_cycle_when_asked() {
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let url = s.url("/v1/quasi-static");
+    let (st, _, plain) =
+        post_json(&c, &url, &json!({"preset": "h7005c", "shaft_rpm": 10000})).await;
+    assert_eq!(st, 200, "{plain}");
+    assert!(plain.get("pocket_cycle").is_none(), "{plain}");
+    let (st, _, body) = post_json(
+        &c,
+        &url,
+        &json!({"preset": "h7005c", "shaft_rpm": 10000, "pocket_cycle": true}),
+    )
+    .await;
+    assert_eq!(st, 200, "{body}");
+    let scene = bearing_core::scene::preset_scene("h7005c")
+        .unwrap()
+        .validated()
+        .unwrap();
+    let engine = bearing_core::quasi_static::pocket_cycle(&scene, 10_000.0).unwrap();
+    // serde_json's default parser may miss the last bit of a float: 1e-14 relative
+    let served = body["pocket_cycle"]["cage_speed"].as_f64().unwrap();
+    assert!(
+        (served / engine.cage_speed - 1.0).abs() < 1e-14,
+        "{served} against {}",
+        engine.cage_speed
+    );
+    assert_eq!(body["pocket_cycle"]["monotone"], true);
+    assert_eq!(body["cage_speed"], plain["cage_speed"]);
+    // a flag that is not a boolean names its field
+    let (st, h, problem) = post_json(
+        &c,
+        &url,
+        &json!({"preset": "h7005c", "pocket_cycle": "yes"}),
+    )
+    .await;
+    assert_problem(st, &h, &problem, 422);
+    assert_eq!(problem["errors"][0]["path"], "pocket_cycle");
+}
+
 #[tokio::test]
 async fn full_queue_answers_429_with_retry_after() {
     let (_dir, db) = temp_db();

@@ -13,4 +13,5 @@ pub use cage_balance::{cage_balance, CageBalance};
 pub use error::QsError;
 pub use initial_state::initial_state;
 pub use pocket_cycle::PocketCycle;
-pub use solver::{pocket_cycle, solve, solve_model, QsBall, QsState, QuasiStaticSolution};
+pub use solver::{pocket_cycle, pocket_cycle_until};
+pub use solver::{solve, solve_model, QsBall, QsState, QuasiStaticSolution};

@@ -153,9 +153,21 @@ impl JacobianSystem for OneBall<'_> {
     }
 }
 
+/// Accepted one-ball steps a whole search may take: the preset's point needs about 0.14
+/// million under the paper's curve and 1.1 million under the rheology law (2026-11-28), so a
+/// search that has not settled by then is not going to, and a request waits at most tens of
+/// seconds for the answer.
+const STEP_BUDGET: u64 = 3_000_000;
+
+/// What a search may still spend, and whether its caller has stopped waiting.
+struct Budget<'a> {
+    steps_left: u64,
+    stop: &'a dyn Fn() -> bool,
+}
+
 /// The mean torque (N m) one ball puts on the cage over one orbit, from `y` (advanced to
 /// the orbit's end, its azimuth wrapped and its torque integral reset).
-fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N]) -> Result<f64, String> {
+fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N], budget: &mut Budget) -> Result<f64, String> {
     let period = TAU / ob.cage;
     // the azimuth and the torque integral are measured against their scales, not their size
     let unbounded = vec![true, false, false, false, false, true];
@@ -172,6 +184,12 @@ fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N]) -> Result<f64, String> {
     let mut solver = Solver::new(ob, Rosenbrock::new(N, norm, jac), y.to_vec(), limits);
     while !solver.finished() {
         solver.step(ob).map_err(|e| e.to_string())?;
+        budget.steps_left = budget.steps_left.checked_sub(1).ok_or_else(|| {
+            format!("no settled cycle within {STEP_BUDGET} integration steps of the ball")
+        })?;
+        if budget.steps_left.is_multiple_of(1024) && (budget.stop)() {
+            return Err("stopped".into());
+        }
     }
     y.copy_from_slice(solver.y());
     let mean = y[TORQUE] / period;
@@ -198,6 +216,7 @@ fn net_torque(
     grid: &[[f64; 2]],
     cage: f64,
     y: &mut [f64; N],
+    budget: &mut Budget,
 ) -> Result<(f64, u32), String> {
     let w_scale = inner.spin.abs().max(1.0) * 3.0;
     let mut ob = OneBall {
@@ -216,7 +235,7 @@ fn net_torque(
     let tol = 1e-4 * resist.abs().max(1e-9) / z;
     let mut last = f64::NAN;
     for k in 1..=8 {
-        let t = orbit_torque(&mut ob, y)?;
+        let t = orbit_torque(&mut ob, y, budget)?;
         if (t - last).abs() <= tol {
             return Ok((z * t + resist, k));
         }
@@ -229,7 +248,7 @@ fn net_torque(
     for _ in 0..7 {
         let mut sum = 0.0;
         for _ in 0..8 {
-            sum += orbit_torque(&mut ob, y)?;
+            sum += orbit_torque(&mut ob, y, budget)?;
         }
         orbits += 8;
         let mean = sum / 8.0;
@@ -243,7 +262,8 @@ fn net_torque(
 
 /// The cage speed where [`net_torque`] vanishes, from the steady balance's `cage0` (rad/s)
 /// and ball spin `w0` (azimuth frame, rad/s) at azimuth 0: bracketed in steps of 0.2 % of
-/// `cage0`, then by the Illinois method to 1e-6 of it.
+/// `cage0`, then by the Illinois method to 1e-6 of it; `stop` is asked before each trial
+/// and every 1024 steps, and the search gives up after [`STEP_BUDGET`] steps.
 pub(super) fn pocket_cycle(
     m: &Model,
     inner: &RingMotion,
@@ -251,13 +271,21 @@ pub(super) fn pocket_cycle(
     grid: &[[f64; 2]],
     cage0: f64,
     w0: [f64; 3],
+    stop: &dyn Fn() -> bool,
 ) -> Result<PocketCycle, String> {
     // centred in its pocket at azimuth 0, orbiting with the cage
     let mut y = [0.0, cage0, w0[0], w0[1], w0[2], 0.0];
     let mut curve: Vec<[f64; 2]> = Vec::new();
     let mut orbits = 0;
+    let mut budget = Budget {
+        steps_left: STEP_BUDGET,
+        stop,
+    };
     let mut eval = |c: f64, y: &mut [f64; N]| -> Result<f64, String> {
-        let (t, k) = net_torque(m, inner, outer, grid, c, y)?;
+        if stop() {
+            return Err("stopped".into());
+        }
+        let (t, k) = net_torque(m, inner, outer, grid, c, y, &mut budget)?;
         orbits += k;
         curve.push([c, t]);
         Ok(t)

@@ -43,9 +43,10 @@ pub struct QuasiStaticSolution {
     /// Inner-ring tilt about Y and Z, rad (0 when locked).
     pub inner_ring_tilt: [f64; 2],
     /// Cage speed, rad/s: where the traction on the balls balances (every ball orbiting
-    /// with the cage, the cage carrying no net torque; `quasi_static::cage_balance`), which
-    /// is what a dynamic run settles to; the epicyclic speed where no balance was found
-    /// (`traction_balanced` false).
+    /// with the cage, the cage carrying no net torque; `quasi_static::cage_balance`); the
+    /// epicyclic speed where no balance was found (`traction_balanced` false). A dynamic
+    /// run starts from it and settles within a few tenths of a per cent of it;
+    /// `pocket_cycle` is closer (docs/reference/model.md, "Cage speed by the pocket cycle").
     pub cage_speed: f64,
     /// Whether `cage_speed` is the traction balance.
     pub traction_balanced: bool,
@@ -64,6 +65,11 @@ pub struct QuasiStaticSolution {
     /// Largest force residual at the solution, N.
     pub residual: f64,
     pub balls: Vec<QsBall>,
+    /// The cage speed by the pocket cycle, when asked for ([`pocket_cycle`]; absent
+    /// otherwise): the speed a running cage settles to where the balls drift through their
+    /// pockets' clearance, which `cage_speed`'s steady balance leaves out.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pocket_cycle: Option<super::pocket_cycle::PocketCycle>,
 }
 
 /// Solve the scene's bearing at `shaft_rpm` under its operating loads.
@@ -570,6 +576,7 @@ impl QsState {
             outer_groove_curvature: (m.outer_race.free_distance / m.ball_diameter) + 0.5,
             iterations: self.iterations,
             residual: self.residual,
+            pocket_cycle: None,
             balls: azimuths(m)
                 .into_iter()
                 .zip(ev)
@@ -599,6 +606,16 @@ pub fn pocket_cycle(
     scene: &ValidScene,
     shaft_rpm: f64,
 ) -> Result<super::pocket_cycle::PocketCycle, QsError> {
+    pocket_cycle_until(scene, shaft_rpm, &|| false)
+}
+
+/// [`pocket_cycle`], giving up (an error) when `stop` says so; it is asked before each trial
+/// cage speed, every 0.05-0.5 s of work.
+pub fn pocket_cycle_until(
+    scene: &ValidScene,
+    shaft_rpm: f64,
+    stop: &dyn Fn() -> bool,
+) -> Result<super::pocket_cycle::PocketCycle, QsError> {
     if !(shaft_rpm.is_finite() && shaft_rpm > 0.0) {
         return Err(QsError::InvalidSpeed { rpm: shaft_rpm });
     }
@@ -622,6 +639,6 @@ pub fn pocket_cycle(
             (st.epicyclic_cage_speed, [k[1], k[2], 0.0])
         }
     };
-    super::pocket_cycle::pocket_cycle(&m, &inner, &outer_ring(), &grid, cage0, w0)
+    super::pocket_cycle::pocket_cycle(&m, &inner, &outer_ring(), &grid, cage0, w0, stop)
         .map_err(|reason| QsError::PocketCycle { reason })
 }
