@@ -71,8 +71,9 @@ pub struct QuasiStaticRequest {
     /// Shaft speed, rev/min.
     #[schema(exclusive_minimum = 0.0, maximum = 100000.0, nullable = false)]
     pub shaft_rpm: Option<f64>,
-    /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer): about 0.5 s
-    /// under the paper's curve, several seconds under the rheology law.
+    /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer): at 10000 rpm
+    /// about 0.5 s under the paper's curve and 7 s under the rheology law, longer at low
+    /// speed (4.5 s at 1000 rpm under the curve).
     #[schema(nullable = false)]
     pub pocket_cycle: Option<bool>,
 }
