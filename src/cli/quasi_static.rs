@@ -11,9 +11,9 @@ pub struct QuasiStaticArgs {
     #[arg(long)]
     pub rpm: Option<f64>,
     /// Also the cage speed by the pocket cycle (`pocket_cycle` in the output): one ball run
-    /// round its orbit in a pocket turning with the cage, which a running cage settles to
-    /// more closely than the steady traction balance (docs/reference/model.md, "Cage speed
-    /// by the pocket cycle"). At 10000 rpm about 0.5 s under the paper's curve and 7 s under
+    /// round its orbit in a pocket turning with the cage; under the paper's curve closer to
+    /// a running cage than the steady traction balance, under the rheology law not unique
+    /// (docs/reference/model.md, "Cage speed by the pocket cycle"). At 10000 rpm about 0.5 s under the paper's curve and 7 s under
     /// the rheology law; it grows with the orbit's period (4.5 s at 1000 rpm under the curve).
     #[arg(long)]
     pub pocket_cycle: bool,

@@ -39,23 +39,32 @@ const TORQUE: usize = 5;
 const N: usize = 6;
 
 /// Error control of the one-ball integration, relative and absolute (the latter in units of
-/// each state's natural size): 1e-6 moves the curve's balanced cage speed by 1e-6 against
-/// 1e-7 (447.46707 against 447.46705 rad/s at the paper's point, 2026-11-28).
+/// each state's natural size): against 1e-7 it moves the curve's balanced cage speed at the
+/// paper's point by 5e-8 relative (447.467071 against 447.467047 rad/s, 2026-11-28), below
+/// the search's own 1e-6, at half the steps.
 const TOLERANCE: f64 = 1e-6;
 
 /// The cage speed by the pocket cycle, and the torques the search met on the way.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "openapi", derive(utoipa::ToSchema))]
 pub struct PocketCycle {
-    /// Cage speed at which one ball's repeating orbit in its pocket, times the ball count,
+    /// Cage speed at which one ball's mean torque on its pocket over an orbit (an orbit
+    /// that repeats, or the mean of blocks of 8 where none does), times the ball count,
     /// balances the land film's drag and the windage, rad/s.
     pub cage_speed: f64,
     /// Every cage speed tried (rad/s) with the net mean torque on the cage there (N m),
-    /// in the order tried: where it does not fall steadily with the speed, the balance is
-    /// not unique (docs/reference/model.md, "Cage speed by the pocket cycle").
+    /// in the order tried. Each trial starts from the ball's state at the end of the one
+    /// before, so where the torque does not fall steadily with the speed the balance may
+    /// not be unique, or the orbit may remember its history
+    /// (docs/reference/model.md, "Cage speed by the pocket cycle").
+    #[cfg_attr(feature = "openapi", schema(value_type = Vec<Vec<f64>>))]
     pub torque_curve: Vec<[f64; 2]>,
-    /// Whether every torque of `torque_curve` falls as the cage speed rises.
+    /// Whether the torques of `torque_curve` fall as the cage speed rises (a rise within 1e-3
+    /// of the land's and the windage's drag, what a trial's torque is known to, not counted).
     pub monotone: bool,
+    /// Trial cage speeds whose orbits neither repeated nor averaged out within 64 orbits
+    /// (their torque is the last block's mean), -.
+    pub unsettled: u32,
     /// Orbits integrated in all, -.
     pub orbits: u32,
 }
@@ -68,6 +77,9 @@ struct OneBall<'a> {
     /// Quasi-static ball centre (axial, radial; m) at azimuths `k TAU / grid.len()`.
     grid: &'a [[f64; 2]],
     cage: f64,
+    /// Axial position of the cage's centre, m: the balls' mean (the pocket forces' axial
+    /// parts centre a free cage on them).
+    cage_axial: f64,
     scale: [f64; N],
 }
 
@@ -102,7 +114,7 @@ impl OneBall<'_> {
         let co = race_contact(&m.outer_race, &self.outer, &ball, &m.contact);
         let spin_angle = self.cage * t;
         let cage = CageMotion {
-            centre: Vector3::zeros(),
+            centre: Vector3::new(self.cage_axial, 0.0, 0.0),
             velocity: Vector3::zeros(),
             rot: Matrix3::identity(),
             spin_angle,
@@ -153,10 +165,11 @@ impl JacobianSystem for OneBall<'_> {
     }
 }
 
-/// Accepted one-ball steps a whole search may take: the preset's point needs about 0.14
-/// million under the paper's curve and 1.1 million under the rheology law (2026-11-28), so a
-/// search that has not settled by then is not going to, and a request waits at most tens of
-/// seconds for the answer.
+/// Accepted one-ball steps a whole search may take: the preset's point at 10000 rpm needs
+/// about 0.14 million under the paper's curve and 1.1 million under the rheology law
+/// (2026-11-28), and the count grows with the orbit's period (about 11 times at 1000 rpm
+/// under the curve), so at low speed under the rheology law a search can run out and fail.
+/// It bounds what a request waits for to tens of seconds.
 const STEP_BUDGET: u64 = 3_000_000;
 
 /// What a search may still spend, and whether its caller has stopped waiting.
@@ -217,7 +230,7 @@ fn net_torque(
     cage: f64,
     y: &mut [f64; N],
     budget: &mut Budget,
-) -> Result<(f64, u32), String> {
+) -> Result<(f64, u32, bool), String> {
     let w_scale = inner.spin.abs().max(1.0) * 3.0;
     let mut ob = OneBall {
         m,
@@ -225,19 +238,22 @@ fn net_torque(
         outer: *outer,
         grid,
         cage,
+        cage_axial: grid.iter().map(|p| p[0]).sum::<f64>() / grid.len() as f64,
         scale: [1e-3, cage.abs().max(1.0), w_scale, w_scale, w_scale, 1e-6],
     };
     let resist = m.cage_windage.as_ref().map_or(0.0, |medium| {
         cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], cage)
     }) + land_torque(m, inner, outer, cage);
     let z = m.z as f64;
-    // a periodic orbit: successive orbits' means agree to 1e-4 of the drag (per ball)
-    let tol = 1e-4 * resist.abs().max(1e-9) / z;
-    let mut last = f64::NAN;
-    for k in 1..=8 {
+    // a periodic orbit: successive orbits' means agree to 1e-4 of the drag per ball (or of
+    // the first orbit's torque where the scene has no drag)
+    let first = orbit_torque(&mut ob, y, budget)?;
+    let tol = 1e-4 * resist.abs().max(z * first.abs()).max(1e-12) / z;
+    let mut last = first;
+    for k in 2..=8 {
         let t = orbit_torque(&mut ob, y, budget)?;
         if (t - last).abs() <= tol {
-            return Ok((z * t + resist, k));
+            return Ok((z * t + resist, k, true));
         }
         last = t;
     }
@@ -253,14 +269,15 @@ fn net_torque(
         orbits += 8;
         let mean = sum / 8.0;
         if (mean - last_block).abs() <= 10.0 * tol {
-            return Ok((z * mean + resist, orbits));
+            return Ok((z * mean + resist, orbits, true));
         }
         last_block = mean;
     }
-    Ok((z * last_block + resist, orbits))
+    Ok((z * last_block + resist, orbits, false))
 }
 
-/// The cage speed where [`net_torque`] vanishes, from the steady balance's `cage0` (rad/s)
+/// The cage speed where [`net_torque`] vanishes, from the start `cage0` (rad/s; the steady
+/// balance's, or the epicyclic speed where that found none)
 /// and ball spin `w0` (azimuth frame, rad/s) at azimuth 0: bracketed in steps of 0.2 % of
 /// `cage0`, then by the Illinois method to 1e-6 of it; `stop` is asked before each trial
 /// and every 1024 steps, and the search gives up after [`STEP_BUDGET`] steps.
@@ -277,6 +294,7 @@ pub(super) fn pocket_cycle(
     let mut y = [0.0, cage0, w0[0], w0[1], w0[2], 0.0];
     let mut curve: Vec<[f64; 2]> = Vec::new();
     let mut orbits = 0;
+    let mut unsettled = 0;
     let mut budget = Budget {
         steps_left: STEP_BUDGET,
         stop,
@@ -285,8 +303,12 @@ pub(super) fn pocket_cycle(
         if stop() {
             return Err("stopped".into());
         }
-        let (t, k) = net_torque(m, inner, outer, grid, c, y, &mut budget)?;
+        let (t, k, settled) = net_torque(m, inner, outer, grid, c, y, &mut budget)?;
+        if !t.is_finite() {
+            return Err(format!("the mean torque at {c} rad/s is not finite"));
+        }
         orbits += k;
+        unsettled += u32::from(!settled);
         curve.push([c, t]);
         Ok(t)
     };
@@ -296,11 +318,12 @@ pub(super) fn pocket_cycle(
     let dir = if fa > 0.0 { 1.0 } else { -1.0 };
     let (mut b, mut fb) = (a + dir * step, eval(a + dir * step, &mut y)?);
     let mut tries = 0;
-    while fa.signum() == fb.signum() {
+    // (an exact zero ends the bracket too: signum(0.0) is 1)
+    while fa.signum() == fb.signum() && fa != 0.0 && fb != 0.0 {
         tries += 1;
         if tries > 20 {
             return Err(format!(
-                "no balance within {:.1} % of the steady balance's {cage0:.3} rad/s",
+                "no balance within {:.1} % of the start's {cage0:.3} rad/s",
                 100.0 * 21.0 * step / cage0
             ));
         }
@@ -312,14 +335,18 @@ pub(super) fn pocket_cycle(
     let mut side = 0;
     let mut prev = f64::NAN;
     let mut c = 0.5 * (a + b);
+    let mut converged = false;
     for _ in 0..40 {
         c = (a * fb - b * fa) / (fb - fa);
-        if (c - prev).abs() < 1e-6 * cage0 {
+        // the secant has stopped moving, or the bracket has closed
+        if (c - prev).abs() < 1e-6 * cage0 || (b - a).abs() < 1e-6 * cage0 {
+            converged = true;
             break;
         }
         prev = c;
         let fc = eval(c, &mut y)?;
         if fc == 0.0 {
+            converged = true;
             break;
         }
         if fc.signum() == fb.signum() {
@@ -336,13 +363,26 @@ pub(super) fn pocket_cycle(
             side = 1;
         }
     }
+    if !converged {
+        return Err(format!(
+            "the root between {a:.4} and {b:.4} rad/s did not converge in 40 steps"
+        ));
+    }
+    // a trial's torque is known to about 1e-3 of the drag (its orbits' agreement): smaller
+    // rises are not counted
+    let drag = m.cage_windage.as_ref().map_or(0.0, |medium| {
+        cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], c)
+    }) + land_torque(m, inner, outer, c);
     let mut sorted = curve.clone();
     sorted.sort_by(|p, q| p[0].total_cmp(&q[0]));
-    let monotone = sorted.windows(2).all(|w| w[1][1] <= w[0][1]);
+    let monotone = sorted
+        .windows(2)
+        .all(|w| w[1][1] <= w[0][1] + 1e-3 * drag.abs());
     Ok(PocketCycle {
         cage_speed: c,
         torque_curve: curve,
         monotone,
+        unsettled,
         orbits,
     })
 }
