@@ -74,9 +74,7 @@ pub fn cage_balance(
     let residual = |u: &DVector<f64>| {
         let cage = u[n - 1];
         let mut r = DVector::zeros(n);
-        let mut torque = m.cage_windage.as_ref().map_or(0.0, |medium| {
-            cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], cage)
-        }) + land_torque(m, inner, outer, cage);
+        let mut torque = drag_torque(m, inner, outer, cage);
         for (i, &j) in active.iter().enumerate() {
             let w = [u[3 * i], u[3 * i + 1], u[3 * i + 2]];
             let b = motion(&az[j], centres[j], cage, w);
@@ -156,9 +154,17 @@ pub fn cage_balance(
     })
 }
 
+/// The torque on a concentric cage at `cage` rad/s from its land film and, when the scene
+/// has it, the cavity's windage, N m: what the balls' pockets must balance.
+pub(super) fn drag_torque(m: &Model, inner: &RingMotion, outer: &RingMotion, cage: f64) -> f64 {
+    m.cage_windage.as_ref().map_or(0.0, |medium| {
+        cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], cage)
+    }) + land_torque(m, inner, outer, cage)
+}
+
 /// The land film's torque on a cage running concentric with the ring that guides it, at
 /// `cage` rad/s (eqs. 23-28 at zero eccentricity: the film's viscous drag), N m.
-pub(super) fn land_torque(m: &Model, inner: &RingMotion, outer: &RingMotion, cage: f64) -> f64 {
+fn land_torque(m: &Model, inner: &RingMotion, outer: &RingMotion, cage: f64) -> f64 {
     let Some(lp) = &m.land else {
         return 0.0;
     };

@@ -13,7 +13,7 @@
 //! alike and evenly spaced, so the cage takes `Z` times one ball's mean pocket torque; the
 //! cage speed is where that balances the land film's drag and the windage.
 
-use super::cage_balance::land_torque;
+use super::cage_balance::drag_torque;
 use crate::model::Model;
 use crate::ode::block_jacobian::BlockJacobian;
 use crate::ode::error_norm::ErrorNorm;
@@ -21,7 +21,6 @@ use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock::Rosenbrock;
 use crate::ode::solver::{Solver, StepLimits};
 use crate::physics::cage_pocket::{pocket_contact, CageMotion};
-use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::Azimuth;
 use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
 use nalgebra::{Matrix3, Vector3};
@@ -241,9 +240,7 @@ fn net_torque(
         cage_axial: grid.iter().map(|p| p[0]).sum::<f64>() / grid.len() as f64,
         scale: [1e-3, cage.abs().max(1.0), w_scale, w_scale, w_scale, 1e-6],
     };
-    let resist = m.cage_windage.as_ref().map_or(0.0, |medium| {
-        cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], cage)
-    }) + land_torque(m, inner, outer, cage);
+    let resist = drag_torque(m, inner, outer, cage);
     let z = m.z as f64;
     // a periodic orbit: successive orbits' means agree to 1e-4 of the drag per ball (or of
     // the first orbit's torque where the scene has no drag)
@@ -370,9 +367,7 @@ pub(super) fn pocket_cycle(
     }
     // a trial's torque is known to about 1e-3 of the drag (its orbits' agreement): smaller
     // rises are not counted
-    let drag = m.cage_windage.as_ref().map_or(0.0, |medium| {
-        cage_windage_torque(medium, m.cage_radii[0], m.cage_radii[1], c)
-    }) + land_torque(m, inner, outer, c);
+    let drag = drag_torque(m, inner, outer, c);
     let mut sorted = curve.clone();
     sorted.sort_by(|p, q| p[0].total_cmp(&q[0]));
     let monotone = sorted
