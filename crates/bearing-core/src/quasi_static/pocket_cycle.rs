@@ -38,9 +38,9 @@ const TORQUE: usize = 5;
 const N: usize = 6;
 
 /// Error control of the one-ball integration, relative and absolute (the latter in units of
-/// each state's natural size): against 1e-7 it moves the curve's balanced cage speed at the
-/// paper's point by 5e-8 relative (447.467071 against 447.467047 rad/s, 2026-11-28), below
-/// the search's own 1e-6, at half the steps.
+/// each state's natural size): against 1e-7 it moved the curve's balanced cage speed at the
+/// paper's point by 5e-8 relative (447.467071 against 447.467047 rad/s, 2026-11-28, with the
+/// pocket at the mid-plane as first built), below the search's own 1e-6, at half the steps.
 const TOLERANCE: f64 = 1e-6;
 
 /// The cage speed by the pocket cycle, and the torques the search met on the way.
@@ -166,8 +166,9 @@ impl JacobianSystem for OneBall<'_> {
 
 /// Accepted one-ball steps a whole search may take: the preset's point at 10000 rpm needs
 /// about 0.14 million under the paper's curve and 1.1 million under the rheology law
-/// (2026-11-28), and the count grows with the orbit's period (about 11 times at 1000 rpm
-/// under the curve), so at low speed under the rheology law a search can run out and fail.
+/// (2026-11-28), and the count grows with the orbit's period (the time was 11 times as long
+/// at 1000 rpm under the curve; steps not counted), so at low speed under the rheology law
+/// a search can run out and fail (not tried).
 /// It bounds what a request waits for to tens of seconds.
 const STEP_BUDGET: u64 = 3_000_000;
 
