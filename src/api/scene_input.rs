@@ -3,8 +3,9 @@
 
 use super::extract::{from_value, kind_of};
 use super::problem::{FieldProblem, Problem};
-use bearing_core::json_doc::merge_patch;
-use bearing_core::scene::{fault_case_scene, preset_names, FaultCase, Scene, ValidScene};
+use bearing_core::scene::{
+    apply_overrides, fault_case_scene, preset_names, FaultCase, Scene, ValidScene,
+};
 use serde::Deserialize;
 use serde_json::{Map, Value};
 use utoipa::ToSchema;
@@ -42,6 +43,8 @@ pub struct PresetReference {
     #[schema(nullable = false)]
     pub fault_case: Option<FaultCase>,
     /// JSON merge patch (RFC 7396) over the preset scene, e.g. `{"solver": {"duration": 0.02}}`.
+    /// A lubricant model named anew replaces the preset's whole: `{"lubricant": {"traction":
+    /// {"model": "rheology"}}}` is that law with its defaults.
     #[serde(default)]
     #[schema(value_type = Option<Object>, nullable = false, example = json!({"solver": {"duration": 0.02}}))]
     pub overrides: Option<Value>,
@@ -200,7 +203,7 @@ fn preset_value(
     case?;
     let mut v = serde_json::to_value(scene?).ok()?;
     if let Some(p @ Value::Object(_)) = &overrides {
-        merge_patch(&mut v, p);
+        apply_overrides(&mut v, p);
     }
     Some(v)
 }

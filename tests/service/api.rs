@@ -319,6 +319,39 @@ async fn quasi_static_gives_the_pocket_cycle_when_asked() {
     assert_eq!(problem["errors"][0]["path"], "pocket_cycle");
 }
 
+/// Overrides that name another lubricant model select it with its own defaults: the preset's
+/// curve coefficients do not carry over into the new law as unknown fields.
+#[tokio::test]
+async fn overrides_naming_another_traction_law_select_it() {
+    let (_dir, db) = temp_db();
+    let s = TestApp::spawn(&db, &["--workers", "0"]);
+    let c = client();
+    let url = s.url("/v1/quasi-static");
+    let body = json!({"preset": "h7005c", "shaft_rpm": 10000,
+        "overrides": {"lubricant": {"traction": {"model": "rheology"}}}});
+    let (st, _, served) = post_json(&c, &url, &body).await;
+    assert_eq!(st, 200, "{served}");
+    let mut scene = bearing_core::scene::preset_scene("h7005c").unwrap();
+    scene.lubricant.traction = bearing_core::scene::Traction::RHEOLOGY;
+    let engine = bearing_core::quasi_static::solve(&scene.validated().unwrap(), 10_000.0).unwrap();
+    // the law's own balance, not the curve's (445.7 rad/s under the curve, 445.1 under it)
+    let cage = served["cage_speed"].as_f64().unwrap();
+    assert!(
+        (cage / engine.cage_speed - 1.0).abs() < 1e-14,
+        "{cage} against {}",
+        engine.cage_speed
+    );
+    // a field the named law does not have is still an error naming it
+    let body = json!({"preset": "h7005c",
+        "overrides": {"lubricant": {"traction": {"model": "rheology", "a": 0.1}}}});
+    let (st, h, problem) = post_json(&c, &url, &body).await;
+    assert_problem(st, &h, &problem, 422);
+    assert!(
+        problem.to_string().contains("unknown field `a`"),
+        "{problem}"
+    );
+}
+
 #[tokio::test]
 async fn full_queue_answers_429_with_retry_after() {
     let (_dir, db) = temp_db();

@@ -8,11 +8,13 @@
 
 pub mod cost;
 mod definition;
+mod overrides;
 mod presets;
 mod valid;
 mod validate;
 
 pub use definition::*;
+pub use overrides::{apply_overrides, VARIANT_TAG};
 pub use presets::{
     fault_case_scene, preset_names, preset_scene, table2_groups, FaultCase, Table2Group,
 };

@@ -3,8 +3,7 @@
 //! on the way, by path from the request's root.
 
 use super::request::StudyBase;
-use crate::json_doc::merge_patch;
-use crate::scene::{fault_case_scene, FaultCase};
+use crate::scene::{apply_overrides, fault_case_scene, FaultCase};
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -96,7 +95,7 @@ pub(super) fn base_value(b: &StudyBase, case: Option<FaultCase>) -> Value {
         fault_case_scene(preset, case.unwrap_or(FaultCase::None)).expect("checked: a known preset");
     let mut v = serde_json::to_value(scene).expect("a scene serializes");
     if let Some(o) = &b.overrides {
-        merge_patch(&mut v, o);
+        apply_overrides(&mut v, o);
     }
     v
 }

@@ -33,7 +33,8 @@ pub struct StudyBase {
     /// Default `none`; a design's `fault_cases` replace it point by point.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault_case: Option<FaultCase>,
-    /// JSON merge patch over the preset scene, e.g. `{"solver": {"duration": 0.05}}`.
+    /// JSON merge patch over the preset scene, e.g. `{"solver": {"duration": 0.05}}`; a
+    /// lubricant model named anew replaces the preset's whole, as for simulations.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[cfg_attr(feature = "openapi", schema(value_type = Option<Object>))]
     pub overrides: Option<Value>,
