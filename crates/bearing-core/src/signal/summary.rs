@@ -67,9 +67,14 @@ fn lines_clause(e: &FaultEvidence) -> String {
         .lines
         .iter()
         .filter(|l| l.order == 0)
-        .filter_map(|l| {
-            l.unresolved_shaft_order
-                .map(|k| format!("{}x{name} at shaft order {k}", l.harmonic))
+        .filter_map(|l| match (l.unresolved_shaft_order, l.shared_with) {
+            (Some(k), _) => Some(format!("{}x{name} at shaft order {k}", l.harmonic)),
+            (None, Some(f)) => Some(format!(
+                "{}x{name} on a line of the {}",
+                l.harmonic,
+                fault_name(f)
+            )),
+            (None, None) => None,
         })
         .collect();
     if !unresolved.is_empty() {
