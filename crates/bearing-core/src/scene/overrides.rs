@@ -49,6 +49,42 @@ mod tests {
         );
     }
 
+    /// The rule replaces any object whose `model` changes: only the tagged unions may have
+    /// a member of that name (a plain field called `model` would be replaced, not merged).
+    #[test]
+    fn only_the_tagged_unions_have_a_model_member() {
+        fn walk(v: &Value, path: String, out: &mut Vec<String>) {
+            if let Value::Object(m) = v {
+                if m.contains_key(VARIANT_TAG) {
+                    out.push(path.clone());
+                }
+                for (k, x) in m {
+                    walk(x, format!("{path}/{k}"), out);
+                }
+            } else if let Value::Array(a) = v {
+                for (i, x) in a.iter().enumerate() {
+                    walk(x, format!("{path}/{i}"), out);
+                }
+            }
+        }
+        let mut found = Vec::new();
+        let scene = crate::scene::fault_case_scene("h7005c", crate::scene::FaultCase::Compound);
+        walk(
+            &serde_json::to_value(scene.unwrap()).unwrap(),
+            String::new(),
+            &mut found,
+        );
+        found.sort();
+        assert_eq!(
+            found,
+            [
+                "/lubricant/cavity_drag",
+                "/lubricant/rolling_resistance",
+                "/lubricant/traction"
+            ]
+        );
+    }
+
     #[test]
     fn a_field_of_the_presets_own_law_still_merges() {
         let mut v = serde_json::to_value(preset_scene("h7005c").unwrap()).unwrap();

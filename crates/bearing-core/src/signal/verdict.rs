@@ -45,11 +45,11 @@
 //!    BSF harmonics with their FTF sidebands; of the cage its harmonics. A line that two
 //!    hypotheses share (on the CWRU 6205, 3 BPFO and 2 BPFI are 0.7 % apart; BPFI - 18 Hz =
 //!    8 (f_r - FTF) sits 2 % above 2xBSF) thus counts once, for the fault that explains more;
-//!    a line of a family still open that is expected within half a bin of an accepted
-//!    fault's line is left out of its test, neither found nor missing, as a shaft order's
-//!    is, and the next harmonic is tested instead (at the H7005C's cage lag under the
-//!    rheology law 3 and 6 BPFO are 35.0 and 70.0 times `f_r - FTF`, lines of the inner
-//!    race's comb).
+//!    a line of a family still open expected where a line would go to an accepted fault is
+//!    left out of its test, neither found nor missing, as a shaft order's is, and a
+//!    harmonic is replaced by the next one (at the H7005C's cage lag under the rheology law
+//!    with rolling resistance 3 and 6 BPFO are 35.0 and 70.0 times `f_r - FTF`, lines of
+//!    the inner race's comb).
 //!    An accepted race fault also takes its shaft sidebands of order 3, 4, ... while each
 //!    order's lines rank as a family at the false-alarm rate ([`further_shaft_sidebands`]).
 
@@ -165,10 +165,11 @@ pub struct SeriesLine {
     /// Absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unresolved_shaft_order: Option<u32>,
-    /// The fault type, accepted before this family was tested, that predicts a line within
-    /// half a bin of where this one is expected: a line there goes to that fault (step 6),
-    /// so the spectrum cannot tell whose it is. Left out of the family's test like a shaft
-    /// order's line, and the next harmonic is tested instead. Absent otherwise.
+    /// The fault type, accepted before this family was tested, that took a line at the
+    /// place this one is expected (step 6: within the tolerance of one of its lines and not
+    /// nearer, by more than half a bin, to a harmonic of a type then open), so the spectrum
+    /// cannot tell whose it is. Left out of the family's test like a shaft order's line (a
+    /// harmonic is replaced by the next one, a sideband is not). Absent otherwise.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shared_with: Option<FaultType>,
 }
@@ -269,8 +270,10 @@ struct RankedLines<'a> {
     shaft_bins: usize,
     /// The shaft frequency whose orders were taken out, Hz (0 = none were).
     shaft_hz: f64,
-    /// The lines each accepted fault type explains, Hz, in the order accepted.
-    taken: Vec<(FaultType, Vec<f64>)>,
+    /// Per accepted fault type, in the order accepted: the lines it explains and the
+    /// harmonics of the types still open when it was accepted, Hz (what
+    /// [`RankedLines::remove_nearer`] took out with).
+    taken: Vec<(FaultType, Vec<f64>, Vec<f64>)>,
 }
 
 impl<'a> RankedLines<'a> {
@@ -387,14 +390,23 @@ impl<'a> RankedLines<'a> {
         (k >= 1.0 && (f - k * fr).abs() <= tolerance(self.df(), k * fr)).then_some(k as u32)
     }
 
-    /// The accepted fault type that takes a line at `f` (Hz) itself: one of its lines lies
-    /// within half a bin of `f` ([`RankedLines::remove_nearer`] gives a line to the nearer
-    /// prediction only beyond half a bin).
+    /// The accepted fault type that took a line at `f` (Hz) itself, by the rule of
+    /// [`RankedLines::remove_nearer`]: `f` is within the tolerance of one of its lines and
+    /// not nearer, by more than half a bin, to a harmonic of the types then open. For such a
+    /// harmonic that is a line of the accepted type within half a bin.
     fn taken_at(&self, f: f64) -> Option<FaultType> {
-        let half = 0.5 * self.df();
+        let df = self.df();
+        let nearest = |v: &[f64]| {
+            v.iter()
+                .map(|&c| (f - c).abs())
+                .fold(f64::INFINITY, f64::min)
+        };
         self.taken
             .iter()
-            .find(|(_, set)| set.iter().any(|&c| (f - c).abs() <= half))
+            .find(|(_, set, open)| {
+                set.iter().any(|&c| (f - c).abs() <= tolerance(df, c))
+                    && nearest(open) + 0.5 * df >= nearest(set)
+            })
             .map(|t| t.0)
     }
 
@@ -611,9 +623,9 @@ fn series(
         }
     }
     // Which lines are tested: a line expected within the tolerance of a shaft order, or
-    // within half a bin of a line an accepted fault explains, is left out (unresolved:
-    // decided from the frequencies alone, not from what its window holds, so that leaving
-    // lines out cannot favour the family), and the first `n_harmonics`
+    // where a line would go to an accepted fault, is left out (unresolved: decided from
+    // frequencies, not from what the family's window holds, so that leaving lines out
+    // cannot favour the family), and the first `n_harmonics`
     // harmonics tested end the list. The shaft-order lines the tested lines reclaim join
     // the ranking first, so that all the family's ranks come from one ranking.
     let mut tested: Vec<(u32, i32, f64, (usize, usize))> = Vec::new();
@@ -962,7 +974,7 @@ pub fn verdict(
             .collect();
         for l in ranked.iter_mut() {
             l.remove_nearer(&set, &open);
-            l.taken.push((*fault, set.clone()));
+            l.taken.push((*fault, set.clone(), open.clone()));
         }
     }
     Verdict {
@@ -1041,6 +1053,41 @@ mod tests {
         assert!((chi2_sf_even(3.0, 1) - (-1.5f64).exp()).abs() < 1e-15);
         assert!((chi2_sf_even(3.0, 2) - (-1.5f64).exp() * 2.5).abs() < 1e-15);
         assert_eq!(chi2_sf_even(0.0, 3), 1.0);
+    }
+
+    /// `taken_at` leaves out what `remove_nearer` would take: a line within half a bin of an
+    /// accepted fault's line when it is an open type's harmonic, anywhere within the
+    /// tolerance otherwise, and nothing beyond the tolerance.
+    #[test]
+    fn taken_at_follows_the_removal_rule() {
+        let df = 10.0;
+        let spectrum = Spectrum {
+            df,
+            amplitude: vec![1.0; 1_000],
+        };
+        let mut lines = RankedLines::new(&spectrum, 9_000.0);
+        // an accepted inner race's line at 3000 Hz (tolerance 1.5 df + 0.2 % = 21 Hz) and
+        // an open outer race's harmonic expected at 3007 Hz
+        lines
+            .taken
+            .push((FaultType::InnerRace, vec![3_000.0], vec![3_007.0]));
+        let inner = Some(FaultType::InnerRace);
+        assert_eq!(
+            lines.taken_at(3_004.0),
+            inner,
+            "an open harmonic within half a bin"
+        );
+        assert_eq!(
+            lines.taken_at(3_007.0),
+            None,
+            "an open harmonic 0.7 bins away"
+        );
+        assert_eq!(
+            lines.taken_at(2_982.0),
+            inner,
+            "another line within the tolerance"
+        );
+        assert_eq!(lines.taken_at(2_978.0), None, "beyond the tolerance");
     }
 
     /// A compound fault on 0.3 s of signal (3.3 Hz bins), read in three spectra, with the
@@ -1138,7 +1185,8 @@ mod tests {
         // 6xBPFO = 70 (f_r - FTF) is the inner race's too, and 7xBPFO lies beyond f_max
         assert_eq!((outer.harmonics_found, outer.harmonics_searched), (3, 3));
         assert!(
-            super::super::summary::summary(&v).contains("3xBPFO on a line of the inner race"),
+            super::super::summary::summary(&v)
+                .contains("(3xBPFO and 6xBPFO on the inner race's lines, left out)"),
             "{}",
             v.summary
         );
