@@ -1126,7 +1126,8 @@ mod tests {
             // a line as the Hann window shows it: |sinc(d) / (1 - d^2)| at `d` bins from it
             let mut line = |f: f64, a: f64| {
                 let x = f / df;
-                for k in (x.floor() as usize - 2)..=(x.ceil() as usize + 2) {
+                let (lo, hi) = (x.floor() as usize - 2, x.ceil() as usize + 2);
+                for (k, amp) in amplitude.iter_mut().enumerate().take(hi + 1).skip(lo) {
                     let d = k as f64 - x;
                     let pd = std::f64::consts::PI * d;
                     let w = if d.abs() < 1e-9 {
@@ -1136,7 +1137,7 @@ mod tests {
                     } else {
                         (pd.sin() / pd / (1.0 - d * d)).abs()
                     };
-                    amplitude[k] = amplitude[k].max(a * w);
+                    *amp = amp.max(a * w);
                 }
             };
             for h in 1..=3 {
