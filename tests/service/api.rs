@@ -334,8 +334,12 @@ async fn overrides_naming_another_traction_law_select_it() {
     let mut scene = bearing_core::scene::preset_scene("h7005c").unwrap();
     scene.lubricant.traction = bearing_core::scene::Traction::RHEOLOGY;
     let engine = bearing_core::quasi_static::solve(&scene.validated().unwrap(), 10_000.0).unwrap();
-    // the law's own balance, not the curve's (445.7 rad/s under the curve, 445.1 under it)
+    // the rheology law's own balance, to the last bits, not the preset curve's
     let cage = served["cage_speed"].as_f64().unwrap();
+    let (st, _, plain) =
+        post_json(&c, &url, &json!({"preset": "h7005c", "shaft_rpm": 10000})).await;
+    assert_eq!(st, 200, "{plain}");
+    assert_ne!(plain["cage_speed"].as_f64().unwrap(), cage);
     assert!(
         (cage / engine.cage_speed - 1.0).abs() < 1e-14,
         "{cage} against {}",

@@ -5,21 +5,7 @@
 use serde_json::Value;
 
 pub fn merge_patch(target: &mut Value, patch: &Value) {
-    let Value::Object(p) = patch else {
-        *target = patch.clone();
-        return;
-    };
-    if !target.is_object() {
-        *target = Value::Object(Default::default());
-    }
-    let t = target.as_object_mut().expect("made an object above");
-    for (k, v) in p {
-        if v.is_null() {
-            t.remove(k);
-        } else {
-            merge_patch(t.entry(k.clone()).or_insert(Value::Null), v);
-        }
-    }
+    merge(target, patch, None);
 }
 
 /// [`merge_patch`] for a document whose unions carry their variant in the member `tag`
@@ -31,11 +17,18 @@ pub fn merge_patch(target: &mut Value, patch: &Value) {
 /// variant with its own fields and defaults. A patch that repeats the target's variant, or
 /// names none, merges as RFC 7396 says.
 pub fn merge_patch_tagged(target: &mut Value, patch: &Value, tag: &str) {
+    merge(target, patch, Some(tag));
+}
+
+/// RFC 7396, with the replacement rule of [`merge_patch_tagged`] when `tag` is given.
+fn merge(target: &mut Value, patch: &Value, tag: Option<&str>) {
     let Value::Object(p) = patch else {
         *target = patch.clone();
         return;
     };
-    let switches = matches!((target.get(tag), p.get(tag)), (Some(old), Some(new)) if !new.is_null() && old != new);
+    let switches = tag.is_some_and(|tag| {
+        matches!((target.get(tag), p.get(tag)), (Some(old), Some(new)) if !new.is_null() && old != new)
+    });
     if !target.is_object() || switches {
         *target = Value::Object(Default::default());
     }
@@ -44,7 +37,7 @@ pub fn merge_patch_tagged(target: &mut Value, patch: &Value, tag: &str) {
         if v.is_null() {
             t.remove(k);
         } else {
-            merge_patch_tagged(t.entry(k.clone()).or_insert(Value::Null), v, tag);
+            merge(t.entry(k.clone()).or_insert(Value::Null), v, tag);
         }
     }
 }

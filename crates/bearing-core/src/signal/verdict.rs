@@ -340,11 +340,6 @@ impl<'a> RankedLines<'a> {
     /// CWRU 6205 BPFO is 5.95 (f_r - FTF): the two cannot be told apart there).
     fn remove_nearer(&mut self, set: &[f64], kept: &[f64]) {
         let df = self.df();
-        let nearest = |f: f64, v: &[f64]| {
-            v.iter()
-                .map(|&c| (f - c).abs())
-                .fold(f64::INFINITY, f64::min)
-        };
         for i in 0..self.peaks.len() {
             let k = self.peaks[i];
             let f = k as f64 * df;
@@ -352,10 +347,7 @@ impl<'a> RankedLines<'a> {
             // at 13 Hz bins the bin's own frequency can sit 4 Hz off (the 0.1 s compound
             // run's 2xBPFO at 2276.4 Hz in the bin at 2280 Hz read as nearer to
             // 24 BPFI / Z = 2292.9 Hz than to 2 BPFO = 2269.2 Hz)
-            let fi = self.frequency(k);
-            if set.iter().any(|&c| (f - c).abs() <= tolerance(df, c))
-                && nearest(fi, kept) + 0.5 * df >= nearest(fi, set)
-            {
+            if goes_to_set(f, self.frequency(k), set, kept, df) {
                 self.removed[i] = true;
             }
         }
@@ -396,17 +388,9 @@ impl<'a> RankedLines<'a> {
     /// harmonic that is a line of the accepted type within half a bin.
     fn taken_at(&self, f: f64) -> Option<FaultType> {
         let df = self.df();
-        let nearest = |v: &[f64]| {
-            v.iter()
-                .map(|&c| (f - c).abs())
-                .fold(f64::INFINITY, f64::min)
-        };
         self.taken
             .iter()
-            .find(|(_, set, open)| {
-                set.iter().any(|&c| (f - c).abs() <= tolerance(df, c))
-                    && nearest(open) + 0.5 * df >= nearest(set)
-            })
+            .find(|(_, set, open)| goes_to_set(f, f, set, open, df))
             .map(|t| t.0)
     }
 
@@ -489,6 +473,20 @@ impl NoiseFloor {
         let t = (x - self.f[i - 1]) / (self.f[i] - self.f[i - 1]);
         self.median[i - 1] + t * (self.median[i] - self.median[i - 1])
     }
+}
+
+/// The rule of [`RankedLines::remove_nearer`]: a line in the bin at `f_bin` (Hz), at
+/// `f_at` (Hz) as interpolated, goes to the frequencies `set` when the bin is within the
+/// spacing tolerance of one of them and `f_at` is not nearer, by more than half a bin, to a
+/// frequency of `kept`.
+fn goes_to_set(f_bin: f64, f_at: f64, set: &[f64], kept: &[f64], df: f64) -> bool {
+    let nearest = |v: &[f64]| {
+        v.iter()
+            .map(|&c| (f_at - c).abs())
+            .fold(f64::INFINITY, f64::min)
+    };
+    set.iter().any(|&c| (f_bin - c).abs() <= tolerance(df, c))
+        && nearest(kept) + 0.5 * df >= nearest(set)
 }
 
 fn tolerance(df: f64, f: f64) -> f64 {
