@@ -63,10 +63,8 @@ fn lines_clause(e: &FaultEvidence) -> String {
         ", {} of {} harmonics",
         e.harmonics_found, e.harmonics_searched
     );
-    let unresolved: Vec<String> = e
-        .lines
-        .iter()
-        .filter(|l| l.order == 0)
+    let harmonics = || e.lines.iter().filter(|l| l.order == 0);
+    let unresolved: Vec<String> = harmonics()
         .filter_map(|l| {
             l.unresolved_shaft_order
                 .map(|k| format!("{}x{name} at shaft order {k}", l.harmonic))
@@ -74,6 +72,20 @@ fn lines_clause(e: &FaultEvidence) -> String {
         .collect();
     if !unresolved.is_empty() {
         s += &format!(" ({} not resolved, left out)", unresolved.join(", "));
+    }
+    // harmonics where a line goes to a fault type accepted before: per type, in order
+    for f in FaultType::ALL {
+        let shared: Vec<String> = harmonics()
+            .filter(|l| l.unresolved_shaft_order.is_none() && l.shared_with == Some(f))
+            .map(|l| format!("{}x{name}", l.harmonic))
+            .collect();
+        if !shared.is_empty() {
+            s += &format!(
+                " ({} on the {}'s lines, left out)",
+                shared.join(" and "),
+                fault_name(f)
+            );
+        }
     }
     if e.sidebands_found > 0 {
         s += match e.fault {
