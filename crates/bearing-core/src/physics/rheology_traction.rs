@@ -500,9 +500,9 @@ mod tests {
     use crate::physics::hertz::exact;
 
     /// Both forms of `asinh_positive` against the standard library's `asinh`, on 1000 points a
-    /// decade from 1e-4 to 1e200. 4 ulp: a few roundings in the argument of the logarithm
-    /// (each 1 ulp of it, at most about 2 ulp of a result of at least 0.48) and the
-    /// logarithm's own half ulp.
+    /// decade from 1e-4 to 1e200. Within 4 machine epsilons relative (about 8 ulp of a
+    /// result near 0.48): a few roundings in the argument of the logarithm and the
+    /// logarithm's own half ulp (measured by the review: 1.9 epsilon at worst).
     #[test]
     fn asinh_positive_is_the_library_asinh_to_a_few_ulp() {
         let mut worst: f64 = 0.0;
