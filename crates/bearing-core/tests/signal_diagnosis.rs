@@ -3,8 +3,7 @@
 //! 0.1 s, the Table-1 scene (0.5 s with its ramp) and a compound run-up that is order
 //! tracked. Each run is short (about a second of solver time in release).
 //!
-//! Asserted: what the verdict achieves (issue 35; where it falls short of the issue, the
-//! test says so and asserts what it does). Printed, not asserted, because the
+//! Asserted: what the verdict achieves (issue 35). Printed, not asserted, because the
 //! verdict does not reach it (docs/lab/cwru.md, "Short simulated runs"): the healthy
 //! Table-1 scene, whose bearing strikes once per ball pass at a fixed place (a ball that has
 //! left the load zone catching its pocket's leading face about 155 deg from the load line:
@@ -78,15 +77,12 @@ fn short_constant_speed_runs_read_their_fault() {
             d.verdict.summary
         );
     }
-    // Issue 35 asks for both races here; the verdict names the inner race only. Its lines
-    // (multiples of BPFI / Z with shaft sidebands) take about half of the 0.075 s window's
-    // bins, and since the outer race's windows are measured against the bins they left
-    // (2026-11-29) its four harmonics, all found, give p = 7.6e-3 (docs/lab/cwru.md).
-    // Asserted: the inner race, and no type that is not there.
+    // the compound run names both races: the inner race's lines (multiples of BPFI / Z,
+    // 17 Hz from 2xBPFO at 13 Hz resolution) no longer take the outer race's harmonics
     let d = diagnose(&constant_speed(FaultCase::Compound, 0.1));
     assert_eq!(
         d.faults,
-        vec![FaultType::InnerRace],
+        vec![FaultType::OuterRace, FaultType::InnerRace],
         "{}",
         d.verdict.summary
     );
@@ -116,14 +112,11 @@ fn a_run_up_is_order_tracked_and_says_so() {
         "{}",
         d.verdict.summary
     );
-    // Issue 35 asks for both races over the 12.9 revolutions of the window (where 4xBPFO,
-    // 27.1 orders, and 4xBPFI, 37.0, are not resolved from shaft orders and give way to the
-    // next harmonics); as on the 0.1 s compound run above, the outer race falls short after
-    // the inner race (p = 4.4e-3 through the CLI's tachometer; docs/lab/cwru.md). Asserted:
-    // the inner race, and no type that is not there.
+    // both races over the 12.9 revolutions of the window; 4xBPFO (27.1 orders) and 4xBPFI
+    // (37.0) are not resolved from shaft orders there and give way to the next harmonics
     assert_eq!(
         d.faults,
-        vec![FaultType::InnerRace],
+        vec![FaultType::OuterRace, FaultType::InnerRace],
         "{}",
         d.verdict.summary
     );
