@@ -1259,6 +1259,35 @@ mod tests {
         (fr, bpfo, bpfi, theory)
     }
 
+    /// The verdict on three spectra read as the raw one and two DTCWT levels, for the 16-ball
+    /// H7005C, at the false-alarm rate `rate`.
+    fn verdict_of_three(
+        spectra: &[Spectrum],
+        theory: &CharacteristicFrequencies,
+        rate: f64,
+    ) -> Verdict {
+        let candidates: Vec<CandidateSpectrum> = spectra
+            .iter()
+            .zip(["raw", "level 1", "level 2"])
+            .map(|(s, label)| CandidateSpectrum {
+                label: label.into(),
+                band_hz: None,
+                spectrum: s,
+                impulsiveness: None,
+            })
+            .collect();
+        verdict(
+            &candidates,
+            theory,
+            16,
+            &VerdictSettings {
+                search_band_pct: 5.0,
+                false_alarm_rate: rate,
+                harmonics: DEFAULT_VERDICT_HARMONICS,
+            },
+        )
+    }
+
     /// An envelope spectrum of `bins` bins of `df` Hz: a floor between 1 and 1.5 with a local
     /// maximum every few bins (a fixed LCG from `seed`), and the lines `lines` draws with
     /// `line(f, a)`, each as a Hann window shows it (`|sinc(d) / (1 - d^2)|` at `d` bins).
@@ -1322,26 +1351,7 @@ mod tests {
                     })
                 })
                 .collect();
-            let candidates: Vec<CandidateSpectrum> = spectra
-                .iter()
-                .zip(["raw", "level 1", "level 2"])
-                .map(|(s, label)| CandidateSpectrum {
-                    label: label.into(),
-                    band_hz: None,
-                    spectrum: s,
-                    impulsiveness: None,
-                })
-                .collect();
-            let v = verdict(
-                &candidates,
-                &theory,
-                16,
-                &VerdictSettings {
-                    search_band_pct: 5.0,
-                    false_alarm_rate: 0.05,
-                    harmonics: DEFAULT_VERDICT_HARMONICS,
-                },
-            );
+            let v = verdict_of_three(&spectra, &theory, 0.05);
             assert!(
                 v.faults.contains(&FaultType::InnerRace),
                 "seed {seed}: {v:#?}"
@@ -1387,26 +1397,7 @@ mod tests {
             })
         };
         let spectra = [spectrum(1), spectrum(2), spectrum(3)];
-        let candidates: Vec<CandidateSpectrum> = spectra
-            .iter()
-            .zip(["raw", "level 1", "level 2"])
-            .map(|(s, label)| CandidateSpectrum {
-                label: label.into(),
-                band_hz: None,
-                spectrum: s,
-                impulsiveness: None,
-            })
-            .collect();
-        let v = verdict(
-            &candidates,
-            &theory,
-            16,
-            &VerdictSettings {
-                search_band_pct: 5.0,
-                false_alarm_rate: DEFAULT_FALSE_ALARM_RATE,
-                harmonics: DEFAULT_VERDICT_HARMONICS,
-            },
-        );
+        let v = verdict_of_three(&spectra, &theory, DEFAULT_FALSE_ALARM_RATE);
         assert_eq!(
             v.faults,
             [FaultType::InnerRace, FaultType::OuterRace],
