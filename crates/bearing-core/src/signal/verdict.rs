@@ -38,9 +38,9 @@
 //!    varying-compliance line does not).
 //! 6. **Attribution.** Fault types are accepted one at a time: of those that pass, the one
 //!    whose kinematic line set covers the most of the strongest remaining lines (it explains
-//!    more) is accepted first, its lines are removed from every spectrum (and their windows'
-//!    bins from the chance model's `B`, as the shaft orders') and the others are
-//!    tested again. The line set of an outer-race fault is every multiple of the cage
+//!    more) is accepted first, its lines are removed from every spectrum (and the bins where
+//!    its lines go leave the chance model's `B` and the open types' window widths) and the
+//!    others are tested again. The line set of an outer-race fault is every multiple of the cage
 //!    frequency `BPFO / Z` (one ball returns to the defect once per cage turn; ball-to-ball
 //!    differences modulate at that rate) and the first two shaft sidebands of its harmonics;
 //!    of an inner-race fault every multiple of `BPFI / Z = f_r - FTF` (one ball meets the
@@ -275,10 +275,11 @@ struct RankedLines<'a> {
     shaft_bins: usize,
     /// Per bin: within a shaft order's window.
     shaft_bin: Vec<bool>,
-    /// Per bin: a line there would go to an accepted fault ([`RankedLines::exclude_windows`]).
+    /// Per bin: a line anywhere within half a bin of its frequency would go to an accepted
+    /// fault ([`RankedLines::exclude_windows`]).
     taken_bin: Vec<bool>,
-    /// Bins taken by accepted faults and outside the shaft orders' windows: the lines left
-    /// cannot lie there either, so the chance model's `B` leaves them out.
+    /// Bins taken by accepted faults and outside the shaft orders' windows: no line left to
+    /// rank lies there, so the chance model's `B` leaves them out.
     taken_bins: usize,
     /// The shaft frequency whose orders were taken out, Hz (0 = none were).
     shaft_hz: f64,
@@ -355,21 +356,29 @@ impl<'a> RankedLines<'a> {
     }
 
     /// Leave the bins where a line would go to an accepted fault's lines `set` (Hz) rather
-    /// than stay with a harmonic of the open types `kept` (the rule of
-    /// [`RankedLines::remove_nearer`], at each bin's frequency) out of the chance model, as
-    /// the shaft orders' windows are out of `B`: the lines left to rank cannot lie there.
-    /// An open family's windows then count only their bins not taken
+    /// than stay with a harmonic of the open types `kept` out of the chance model, as the
+    /// shaft orders' windows are out of `B`: the rule of [`RankedLines::remove_nearer`],
+    /// which judges a line at its interpolated frequency, so a bin is taken only when the
+    /// rule gives it to `set` at its own frequency and half a bin either side (no line left
+    /// to rank lies in a taken bin; a removed line may lie in a free one, which errs on the
+    /// safe side). An open family's windows then count only their bins not taken
     /// ([`RankedLines::free_bins`]). Without this the open types' windows were measured
     /// against bins no remaining line can fill, and their chance understated (review of
-    /// 2026-11-29: 30 % of the bins on the synthetic compound spectrum of the tests below).
+    /// 2026-11-29: 30 % of `B` on the synthetic spectra of the tests below, 43 % of a
+    /// 0.1 s simulated spectrum's bins for the inner race's comb).
     fn exclude_windows(&mut self, set: &[f64], kept: &[f64]) {
         let df = self.df();
         let last = self.bins.saturating_sub(1);
+        let goes = |f: f64| {
+            [f - 0.5 * df, f, f + 0.5 * df]
+                .iter()
+                .all(|&at| goes_to_set(f, at, set, kept, df))
+        };
         for &c in set.iter().filter(|&&c| c > 0.0) {
             let (lo, hi) = self.window(c);
             for k in lo..=hi.min(last) {
                 let f = k as f64 * df;
-                if !self.taken_bin[k] && goes_to_set(f, f, set, kept, df) {
+                if !self.taken_bin[k] && goes(f) {
                     self.taken_bin[k] = true;
                     if !self.shaft_bin[k] {
                         self.taken_bins += 1;
@@ -379,8 +388,9 @@ impl<'a> RankedLines<'a> {
         }
     }
 
-    /// Bins of `[lo, hi]` not taken by an accepted fault (at least 1): a window's share of
-    /// the chance model's `B` (bins beyond the ranked range count, as they always did).
+    /// Bins of `[lo, hi]` not taken by an accepted fault (at least 1): a window's width in
+    /// the chance model (shaft-order bins and bins beyond the ranked range count, as they
+    /// always did: on the safe side).
     fn free_bins(&self, lo: usize, hi: usize) -> usize {
         (lo..=hi)
             .filter(|&k| !self.taken_bin.get(k).copied().unwrap_or(false))
