@@ -40,8 +40,8 @@
 //!    whose kinematic line set covers the most of the strongest remaining lines (it explains
 //!    more) is accepted first, its lines are removed from every spectrum (and the bins where
 //!    its lines go leave the chance model's `B` and the open types' window widths) and the
-//!    others are tested again. The line set of an outer-race fault is every multiple of the cage
-//!    frequency `BPFO / Z` (one ball returns to the defect once per cage turn; ball-to-ball
+//!    others are tested again. The line set of an outer-race fault is every multiple of the
+//!    cage frequency `BPFO / Z` (one ball returns to the defect once per cage turn; ball-to-ball
 //!    differences modulate at that rate) and the first two shaft sidebands of its harmonics;
 //!    of an inner-race fault every multiple of `BPFI / Z = f_r - FTF` (one ball meets the
 //!    defect again after one relative turn) and the shaft sidebands; of a ball fault the
