@@ -271,7 +271,8 @@ struct RankedLines<'a> {
     /// reads such a line where it resolves the line as nearer to its own prediction
     /// ([`RankedLines::best_for`]).
     shaft: Vec<Option<f64>>,
-    /// Bins within the shaft orders' windows: the lines left are ranked over the rest.
+    /// Bins within the shaft orders' windows (their union, as `taken_bins` counts the
+    /// accepted faults'): the lines left are ranked over the rest.
     shaft_bins: usize,
     /// Per bin: within a shaft order's window.
     shaft_bin: Vec<bool>,
@@ -348,9 +349,11 @@ impl<'a> RankedLines<'a> {
         }
         for &c in &orders {
             let (lo, hi) = self.window(c);
-            self.shaft_bins += (hi.min(self.bins.saturating_sub(1)) + 1).saturating_sub(lo);
             for k in lo..=hi.min(self.bins.saturating_sub(1)) {
-                self.shaft_bin[k] = true;
+                if !self.shaft_bin[k] {
+                    self.shaft_bin[k] = true;
+                    self.shaft_bins += 1;
+                }
             }
         }
     }
