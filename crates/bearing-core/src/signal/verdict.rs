@@ -1301,9 +1301,17 @@ mod tests {
         )
     }
 
-    /// An envelope spectrum of `bins` bins of `df` Hz: a floor between 1 and 1.5 with a local
-    /// maximum every few bins (a fixed LCG from `seed`), and the lines `lines` draws with
-    /// `line(f, a)`, each as a Hann window shows it (`|sinc(d) / (1 - d^2)|` at `d` bins).
+    /// An envelope spectrum of `bins` bins of `df` Hz: a Rayleigh floor of scale 1 (median
+    /// 1.18; a fixed LCG from `seed`), as the magnitudes of a noise envelope's spectral bins
+    /// are, and the lines `lines` draws with `line(f, a)`, each as a Hann window shows it
+    /// (`|sinc(d) / (1 - d^2)|` at `d` bins).
+    ///
+    /// Not a uniform floor between 1 and 1.5, as until 2026-11-29: with so light a tail the
+    /// strongest peaks differ by less than the local median's sampling error, which is
+    /// largest at low frequencies, where the median's window is narrowest; there the top
+    /// ranks gathered (of the 20 best peaks of 400 line-free floors 9.2 % lay below 300 Hz,
+    /// 3.3 % of the band; 3.8 % on the Rayleigh floor), and the cage, the lowest family, was
+    /// named on 12.5 % of line-free floors at a 5 % rate (3.3 % on the Rayleigh floor).
     fn synthetic_spectrum(
         seed: u64,
         bins: usize,
@@ -1316,7 +1324,8 @@ mod tests {
                 state = state
                     .wrapping_mul(6_364_136_223_846_793_005)
                     .wrapping_add(1_442_695_040_888_963_407);
-                1.0 + 0.5 * (state >> 11) as f64 / (1u64 << 53) as f64
+                let u = ((state >> 11) as f64 / (1u64 << 53) as f64).max(f64::MIN_POSITIVE);
+                (-2.0 * u.ln()).sqrt()
             })
             .collect();
         let mut line = |f: f64, a: f64| {
@@ -1340,13 +1349,16 @@ mod tests {
     }
 
     /// After a fault is accepted, the open types' tests keep their rate: an inner race's
-    /// lines (harmonics with shaft sidebands, 8 to 16 times over the floor) on 400 random
-    /// floors with no other line, read at a 5 % rate. The outer race and the rolling
-    /// element may each be named on at most 5 % of them plus three standard deviations
-    /// (3 sqrt(400 x 0.05 x 0.95) = 13): 33. Measured 2026-11-29: 3 and 6 (6 and 35 before
-    /// the open types' windows and `B` counted only the bins the inner race's lines left).
-    /// The cage is printed, not asserted: 34 (64 before), above the rate; why is not
-    /// traced (docs/lab/cwru.md).
+    /// lines (harmonics with shaft sidebands, 12 and 16 times the floor's scale) on 400
+    /// random floors with no other line, read at a 5 % rate. Every other type may be named
+    /// on at most 5 % of them plus three standard deviations (3 sqrt(400 x 0.05 x 0.95) =
+    /// 13): 33. Measured 2026-11-29 on the Rayleigh floor: outer race, rolling element and
+    /// cage 1, 7 and 8; the same types on the same floors without the inner race's lines
+    /// 3, 8 and 13, and the inner race 10 (on the uniform floor used until then the cage
+    /// was named on 34 with the lines and 50 without: the floor's artefact,
+    /// [`synthetic_spectrum`]; the outer race and rolling element 3 and 6, and 6 and 35
+    /// before the open types' windows and `B` counted only the bins the inner race's lines
+    /// left).
     #[test]
     fn after_an_accepted_fault_the_outer_race_and_the_balls_keep_their_rate() {
         let (fr, _, bpfi, theory) = lagging_compound();
@@ -1374,13 +1386,9 @@ mod tests {
             }
         }
         eprintln!("types named on 400 spectra with an inner race, rate 0.05: {named:?}");
-        let inner = FaultType::ALL
-            .iter()
-            .position(|g| *g == FaultType::InnerRace)
-            .unwrap();
-        for (i, &n) in named.iter().enumerate() {
-            if i != inner && FaultType::ALL[i] != FaultType::Cage {
-                assert!(n <= 33, "{:?} named on {n} of 400", FaultType::ALL[i]);
+        for (f, &n) in FaultType::ALL.iter().zip(&named) {
+            if *f != FaultType::InnerRace {
+                assert!(n <= 33, "{f:?} named on {n} of 400");
             }
         }
     }
