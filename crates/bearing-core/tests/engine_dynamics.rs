@@ -150,7 +150,8 @@ fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
 /// being the cheaper here too; with ROS34PW2 37 980, 1.10x); and a simulated second at 2000
 /// rpm costs at most 1.5 times one at 10000 rpm in evaluations (issue 34's bound; measured
 /// 32 195 against 29 672, 1.09x; with ROS34PW2 1.41x), where `rk4_fsal` alone takes 6x
-/// (210k against 34.7k).
+/// (210k against 34.7k). 2026-11-29, the implicit method kept only where it saves a fifth
+/// (`ode::auto_switch`): 31 553 against 35 473 (0.89x), and 32 596 at 2000 rpm (1.03x).
 #[test]
 fn auto_slip_costs_little_more_at_low_speed_than_at_high() {
     let mut fast = constant_speed(0.05, 1e-5);
