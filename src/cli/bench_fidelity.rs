@@ -46,7 +46,7 @@ pub fn fidelity(
     println!(
         "| full | {} | {} | {} | {:.1e} | {:.2} | 1 | {} | {:.2} | {:.2} | {:.3} | {:.3} | {:.1} / {:.1} |",
         name_of(base.solver.integrator),
-        base.solver.traction_strips,
+        base.traction_strips(),
         name_of(base.solver.traction_quadrature),
         base.solver.rtol,
         f.wall,
@@ -82,7 +82,7 @@ pub fn fidelity(
                     s.solver.traction_quadrature = *q;
                 }
                 if let Some(n) = n {
-                    s.solver.traction_strips = *n;
+                    s.solver.traction_strips = Some(*n);
                 }
                 if let Some(tol) = tol {
                     s.solver.rtol = *tol;
@@ -97,7 +97,7 @@ pub fn fidelity(
                 println!(
                     "| {name} | {} | {} | {} | {:.1e} | {:.2} | {:.1} | {} | {:.2} ({:+.3} %) | {:.2} ({:+.3} %) | {:.3} ({:+.3} %) | {:.3} ({:+.1} %) | {:.1} ({:+.1} %) / {:.1} ({:+.1} %) |",
                     name_of(s.solver.integrator),
-                    s.solver.traction_strips,
+                    s.traction_strips(),
                     name_of(s.solver.traction_quadrature),
                     s.solver.rtol,
                     g.wall,

@@ -40,6 +40,11 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         4,
         "0f41803eec0a0b47713e352e5f65bcaf9845d2b6dfae5763bdf9c9a79ffe634a",
     ),
+    // `solver.traction_strips` optional: absent, the law's own (4 under the rheology law)
+    (
+        5,
+        "427d31d9cdbdddc66bac1b9d1d30be4ef823641b1b43f677821e2f3e88765de5",
+    ),
 ];
 
 /// Keys that document a schema without changing what parses.

@@ -685,7 +685,7 @@ mod tests {
     fn a_quasi_static_balls_lagged_forces_stay_the_size_of_the_traction() {
         let mut s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
         s.solver.fidelity = Fidelity::QuasiStaticBalls;
-        s.solver.traction_strips = 4;
+        s.solver.traction_strips = Some(4);
         let m = Model::new(&s.validated().unwrap());
         let mut largest: f64 = 0.0;
         each_step(&m, 0.04, |_, _, sys| {
@@ -739,7 +739,7 @@ mod tests {
         s.operating.speed.ramp_time = 0.0;
         let model = |n: usize, q| {
             let mut s = s.clone();
-            s.solver.traction_strips = n;
+            s.solver.traction_strips = Some(n);
             s.solver.traction_quadrature = q;
             Model::new(&s.validated().unwrap())
         };
@@ -781,7 +781,7 @@ mod tests {
         s.operating.speed.ramp_time = 0.0;
         let model = |n: usize| {
             let mut s = s.clone();
-            s.solver.traction_strips = n;
+            s.solver.traction_strips = Some(n);
             Model::new(&s.validated().unwrap())
         };
         let (mut t_end, mut y_end) = (0.0, vec![]);

@@ -194,7 +194,7 @@ impl Model {
         let ball_mass = m.balls.density * PI * d * d * d / 6.0;
         let contact = ContactParams {
             strips: Strips::new(
-                scene.solver.traction_strips,
+                scene.traction_strips(),
                 match scene.solver.traction_quadrature {
                     TractionQuadrature::Gauss => StripRule::Gauss,
                     TractionQuadrature::EqualStrips => StripRule::Equal,

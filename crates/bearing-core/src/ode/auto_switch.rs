@@ -372,7 +372,10 @@ mod tests {
         }
         assert!(!a.implicit(), "the implicit method kept the run at 0.9");
         // its lost trials only: one window in each doubling of the patience
-        assert!(implicit_windows <= 10, "{implicit_windows} of 200 windows implicit");
+        assert!(
+            implicit_windows <= 10,
+            "{implicit_windows} of 200 windows implicit"
+        );
     }
 
     /// Where the relaxation is fast (k = 1e6 1/s against a 20 Hz oscillator) the explicit

@@ -40,6 +40,14 @@ mod tests {
             RollingResistanceModel::Houpert { factor: 1.0 }
         );
         assert_eq!(s.lubricant.density, 860.0);
+        // with it the law's own traction samples (4 cell means; the curve's preset takes
+        // 10), unless the overrides name a count
+        assert_eq!(preset_scene("h7005c").unwrap().traction_strips(), 10);
+        assert_eq!(s.solver.traction_strips, None);
+        assert_eq!(s.traction_strips(), 4);
+        let mut named = s.clone();
+        named.solver.traction_strips = Some(10);
+        assert_eq!(named.traction_strips(), 10);
         // the rest of the preset is untouched
         let preset = preset_scene("h7005c").unwrap();
         assert_eq!(s.bearing, preset.bearing);

@@ -48,6 +48,15 @@ impl Scene {
     pub fn validated(&self) -> Result<ValidScene, ValidationErrors> {
         ValidScene::new(self.clone())
     }
+
+    /// Traction samples per contact: `solver.traction_strips`, or the lubricant's law's
+    /// own when the scene names none (resolved here, not stored, so a scene whose law is
+    /// changed takes the new law's).
+    pub fn traction_strips(&self) -> usize {
+        self.solver
+            .traction_strips
+            .unwrap_or_else(|| self.lubricant.traction.default_strips())
+    }
 }
 
 /// Stored scenes are parsed back through validation: storage is a boundary too.

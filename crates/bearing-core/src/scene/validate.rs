@@ -442,7 +442,7 @@ impl Scene {
             c.push("solver.atol", "must be in [1e-14, 0.1]");
         }
         c.pos("solver.max_step", s.max_step, "s");
-        if s.traction_strips < 1 || s.traction_strips > 200 {
+        if s.traction_strips.is_some_and(|n| !(1..=200).contains(&n)) {
             c.push("solver.traction_strips", "must be in 1..=200");
         }
         if c.pos("solver.sample_rate", s.sample_rate, "Hz") {
