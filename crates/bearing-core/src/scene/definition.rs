@@ -381,10 +381,12 @@ pub enum Integrator {
     /// modes, with RK4's stability and about its damping on them (docs/reference/model.md,
     /// "Time integration").
     SlipImplicit,
-    /// `rk4_fsal` and `slip_implicit`, each in turn challenged by the other: whichever
-    /// costs fewer right-hand sides per simulated second, measured as the run goes, carries
-    /// on (`slip_implicit` where the balls' slip relaxation holds the explicit step, at low
-    /// speed; docs/reference/model.md, "Time integration").
+    /// `rk4_fsal` and `slip_implicit`, each in turn challenged by the other, priced in
+    /// right-hand sides per simulated second as the run goes: `slip_implicit` takes the run
+    /// where it costs at most 0.6 of `rk4_fsal` (where the balls' slip relaxation holds
+    /// the explicit step, at low speed) and gives it back where it costs more than 0.9,
+    /// the explicit method being the accurate one for the contact modes
+    /// (docs/reference/model.md, "Time integration").
     AutoSlip,
 }
 
@@ -438,8 +440,8 @@ pub struct Solver {
     pub max_step: f64,
     /// Traction samples across the contact ellipse major axis (eq. 13, 2m strips), -.
     /// Absent (the default): the law's own ([`Traction::default_strips`]), 10 for the laws
-    /// sampled at points and 4 for the rheology law, whose samples are cell means
-    /// ([`Scene::traction_strips`]; docs/reference/model.md, "Traction quadrature").
+    /// sampled at points and 4 Gauss nodes for the rheology law, whose samples are cell
+    /// means ([`Scene::traction_strips`]; docs/reference/model.md, "Traction quadrature").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub traction_strips: Option<usize>,
     /// Where those samples sit and what load each carries (docs/reference/model.md, "Traction
@@ -543,16 +545,19 @@ impl Traction {
         roelands_z: None,
     };
 
-    /// Traction samples a scene takes under this law when it names none: 10 where the law
-    /// is sampled at points (the paper's curve and the film law: Gauss 10 within 0.22 % in
-    /// band RMS of 20, 3 nodes 6.9 % off), 4 under the rheology law, whose samples are the
-    /// law's means over their cells where it is steep (on the Table-1 compound case at
-    /// 1e-7, 4 nodes within 0.1 % in band RMS and 6.3e-5 in cage speed of 20, as close as
-    /// 10; docs/lab/benchmarks.md, "Four Gauss nodes under the rheology law").
-    pub fn default_strips(&self) -> usize {
-        match self {
-            Traction::Rheology { .. } => 4,
-            Traction::Abcd { .. } | Traction::Adore { .. } | Traction::Film { .. } => 10,
+    /// Traction samples a scene takes under this law and `quadrature` when it names none:
+    /// 10 where the law is sampled at points (the paper's curve and the film law: Gauss 10
+    /// within 0.22 % in band RMS of 20, 3 nodes 6.9 % off) and for equal strips, 4 Gauss
+    /// nodes under the rheology law, whose samples are the law's means over their cells
+    /// where it is steep (on the Table-1 compound case at 1e-7, 4 nodes within 0.1 % in
+    /// band RMS and 6.3e-5 in cage speed of 20, 10 within 0.2 % and 6.2e-5, one run's own
+    /// scatter under this law; docs/lab/benchmarks.md, "Four Gauss nodes under the
+    /// rheology law"). Equal strips converge more slowly (the balls' traction moments 10 %
+    /// off at 4 against 1.5 % for Gauss nodes) and were not measured at 4 under this law.
+    pub fn default_strips(&self, quadrature: TractionQuadrature) -> usize {
+        match (self, quadrature) {
+            (Traction::Rheology { .. }, TractionQuadrature::Gauss) => 4,
+            _ => 10,
         }
     }
 

@@ -48,6 +48,10 @@ mod tests {
         let mut named = s.clone();
         named.solver.traction_strips = Some(10);
         assert_eq!(named.traction_strips(), 10);
+        // 4 was measured for Gauss nodes only: equal strips keep 10
+        let mut equal = s.clone();
+        equal.solver.traction_quadrature = crate::scene::TractionQuadrature::EqualStrips;
+        assert_eq!(equal.traction_strips(), 10);
         // the rest of the preset is untouched
         let preset = preset_scene("h7005c").unwrap();
         assert_eq!(s.bearing, preset.bearing);

@@ -53,9 +53,11 @@ impl Scene {
     /// own when the scene names none (resolved here, not stored, so a scene whose law is
     /// changed takes the new law's).
     pub fn traction_strips(&self) -> usize {
-        self.solver
-            .traction_strips
-            .unwrap_or_else(|| self.lubricant.traction.default_strips())
+        self.solver.traction_strips.unwrap_or_else(|| {
+            self.lubricant
+                .traction
+                .default_strips(self.solver.traction_quadrature)
+        })
     }
 }
 
