@@ -24,16 +24,16 @@
 //! returns with twice the patience. So the implicit method takes the run only where it
 //! saves clearly, and gives it back where it saves less than a tenth: the explicit method
 //! is the accurate one for the contact modes (on the Table-1 compound case under the
-//! rheology law, with one threshold of 0.8 for either challenger, the implicit method that
-//! had won at the ramp's low speed could keep 10000 rpm, where the two cost about the same,
-//! and the band RMS came 1.3 % below the tight-tolerance ensembles; docs/lab/benchmarks.md),
-//! and the price leaves out the implicit method's factorisations and solves. Between the
-//! two thresholds the incumbent stays: the ratio of two windows' prices scatters by about
-//! 14 %, and without that gap a regime near the threshold made the methods alternate
-//! window by window (review of 2026-11-29: some 500 switches in 2000 windows, in a
-//! simulation of this rule with 10 % scatter, against about 20 for a failed trial in each
-//! doubling). A failed trial costs one window at the worse price; a regime that changes (a
-//! ramp speeding up) is found within a doubling.
+//! rheology law, under the rule until 2026-11-29, where either challenger had to save a
+//! fifth, the implicit method that had won at the ramp's low speed could keep 10000 rpm,
+//! where the two cost about the same, and the band RMS came 1.3 % below the
+//! tight-tolerance ensembles; docs/lab/benchmarks.md), and the price leaves out the
+//! implicit method's factorisations and solves. Between the two thresholds the incumbent
+//! stays: the ratio of two windows' prices scatters by about 14 %, and with one threshold
+//! (0.8, tried first) a regime near it made the methods alternate (616 switches in 2000
+//! windows of prices scattering by 10 %, against at most 44 now: unit test below). A failed
+//! trial costs one window at the worse price; a regime that changes (a ramp speeding up) is
+//! found within a doubling.
 
 use super::explicit_rk::ExplicitRk;
 use super::method::Method;
@@ -349,47 +349,60 @@ mod tests {
         AutoSwitch::with_rule(explicit(norm), implicit, SwitchRule::MeasuredCost)
     }
 
-    /// Drive the measured-cost rule through `windows` windows priced by `price(implicit,
-    /// window)` (right-hand sides per simulated second); the windows run on the implicit
-    /// method.
-    fn drive(
-        a: &mut AutoSwitch,
-        windows: usize,
-        mut price: impl FnMut(bool, usize) -> f64,
-    ) -> usize {
+    /// Drive the measured-cost rule through `windows` windows, each priced by
+    /// `price(implicit)` (right-hand sides per simulated second; `implicit` says whether the
+    /// window runs on the implicit method); returns how many ran on it.
+    fn drive(a: &mut AutoSwitch, windows: usize, mut price: impl FnMut(bool) -> f64) -> usize {
         let (mut t, mut rhs, mut implicit_windows) =
             (a.prices.window_t, a.prices.window_rhs as f64, 0);
-        for w in 0..windows {
+        for _ in 0..windows {
             if a.implicit() {
                 implicit_windows += 1;
             }
             t += 1.0;
-            rhs += price(a.implicit(), w);
+            rhs += price(a.implicit());
             a.prices.window_steps = WINDOW;
             a.measured_cost_check(t, rhs.round() as u64);
         }
         implicit_windows
     }
 
-    /// The measured-cost rule on fabricated prices: at half the explicit method's price the
-    /// implicit method takes the run; when the regime changes so that it saves only 8 % (a
-    /// ramp that has reached speed), the explicit method's challenge wins and keeps the
-    /// run, the implicit one coming back only for its lost trials (one window in each
-    /// doubling of the patience: at most 8 in 200). Under one threshold of 0.8 for either
-    /// challenger, or the earlier rule that asked every challenger to save a fifth, the
-    /// implicit method kept it.
+    /// The measured-cost rule on fabricated prices (right-hand sides per simulated second,
+    /// explicit at 1e5):
+    /// - at half the explicit price the implicit method takes the run;
+    /// - in the band (0.85) the incumbent implicit method keeps it, and an incumbent
+    ///   explicit method keeps it at 0.7;
+    /// - when the implicit method saves only 8 % (a ramp that has reached speed), the
+    ///   explicit method's challenge wins and keeps the run, the implicit one coming back
+    ///   only for its lost trials (measured 9 of 200 windows: 2 before the first challenge
+    ///   and one in each doubling of the patience). Under the rule until 2026-11-29 (either
+    ///   challenger had to save a fifth) the implicit method kept it.
     #[test]
     fn measured_cost_runs_implicitly_only_where_it_saves_clearly() {
-        let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
-        let mut a = measured(norm);
-        drive(&mut a, 4, |implicit, _| if implicit { 5e4 } else { 1e5 });
-        assert!(a.implicit(), "the implicit method did not take the run");
-        let implicit_windows = drive(
-            &mut a,
-            200,
-            |implicit, _| if implicit { 9.2e4 } else { 1e5 },
-        );
+        let norm = || ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
+        let taken = || {
+            let mut a = measured(norm());
+            drive(&mut a, 4, |implicit| if implicit { 5e4 } else { 1e5 });
+            assert!(a.implicit(), "the implicit method did not take the run");
+            a
+        };
+        let mut a = taken();
+        let implicit_windows = drive(&mut a, 200, |implicit| if implicit { 9.2e4 } else { 1e5 });
         assert!(!a.implicit(), "the implicit method kept the run at 0.92");
+        assert!(
+            implicit_windows <= 10,
+            "{implicit_windows} of 200 windows implicit"
+        );
+        // in the band the incumbent stays (the challenger's lost trials: one in each doubling)
+        let mut c = taken();
+        let implicit_windows = drive(&mut c, 200, |implicit| if implicit { 8.5e4 } else { 1e5 });
+        assert!(
+            c.implicit() && implicit_windows >= 190,
+            "the implicit method lost the run at 0.85 ({implicit_windows} of 200 windows)"
+        );
+        let mut b = measured(norm());
+        let implicit_windows = drive(&mut b, 200, |implicit| if implicit { 7e4 } else { 1e5 });
+        assert!(!b.implicit(), "the implicit method took the run at 0.7");
         assert!(
             implicit_windows <= 10,
             "{implicit_windows} of 200 windows implicit"
@@ -397,11 +410,12 @@ mod tests {
     }
 
     /// With window prices that scatter by 10 % (log-normal, a fixed generator), at cost
-    /// ratios near and between the two thresholds, the methods do not alternate: over 2000
-    /// windows at most 60 switches, where a failed trial in each doubling of the patience
-    /// makes about 2 log2(2000) = 22 (measured 2026-11-29: at most 44 here, at 0.8; a single
-    /// threshold of 0.8 for either challenger made about 500 at a ratio of 0.8 in a
-    /// simulation of the rule).
+    /// ratios near and between the two thresholds, the methods do not alternate: measured
+    /// 2026-11-29 at most 44 switches in 2000 windows (at 0.8), about 20 elsewhere (a
+    /// failed trial in each doubling of the patience makes about 2 log2(2000) = 22, and
+    /// within the band a noisy ratio sometimes crosses a threshold and restarts the
+    /// doubling). The bound, 150, is that measurement with room for another generator's
+    /// draws; one threshold of 0.8 for either challenger made 616 at 0.8.
     #[test]
     fn measured_cost_does_not_alternate_near_its_thresholds() {
         let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -415,14 +429,14 @@ mod tests {
         for ratio in [0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95] {
             let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
             let mut a = measured(norm);
-            drive(&mut a, 2000, |implicit, _| {
+            drive(&mut a, 2000, |implicit| {
                 let g = (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
                 1e5 * if implicit { ratio } else { 1.0 } * (0.1 * g).exp()
             });
             eprintln!("ratio {ratio}: {} switches", a.switches);
             worst = worst.max(a.switches);
         }
-        assert!(worst <= 60, "{worst} switches in 2000 windows");
+        assert!(worst <= 150, "{worst} switches in 2000 windows");
     }
 
     /// Where the relaxation is fast (k = 1e6 1/s against a 20 Hz oscillator) the explicit
