@@ -550,7 +550,7 @@ impl Traction {
     /// within 0.22 % in band RMS of 20, 3 nodes 6.9 % off) and for equal strips, 4 Gauss
     /// nodes under the rheology law, whose samples are the law's means over their cells
     /// where it is steep (on the Table-1 compound case at 1e-7, 4 nodes within 0.1 % in
-    /// band RMS and 6.3e-5 in cage speed of 20, 10 within 0.2 % and 6.2e-5, one run's own
+    /// band RMS and 6.2e-5 in cage speed of 20, 10 within 0.2 % and 6.2e-5, one run's own
     /// scatter under this law; docs/lab/benchmarks.md, "Four Gauss nodes under the
     /// rheology law"). Equal strips converge more slowly (the balls' traction moments 10 %
     /// off at 4 against 1.5 % for Gauss nodes) and were not measured at 4 under this law.
