@@ -40,10 +40,12 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         4,
         "0f41803eec0a0b47713e352e5f65bcaf9845d2b6dfae5763bdf9c9a79ffe634a",
     ),
-    // `solver.traction_strips` optional: absent, the law's own (4 under the rheology law)
+    // `solver.traction_strips` optional: absent, the law's own (4 under the rheology law);
+    // its schema bounds 1..=200 as validated (format 5 was not yet released when they
+    // were added, so its fingerprint was replaced, not appended)
     (
         5,
-        "427d31d9cdbdddc66bac1b9d1d30be4ef823641b1b43f677821e2f3e88765de5",
+        "85013d2d515774e116dec8e7f4e129ee0a01b8de00637ede3e6bdd83dd46dcc4",
     ),
 ];
 

@@ -443,6 +443,7 @@ pub struct Solver {
     /// sampled at points and 4 Gauss nodes for the rheology law, whose samples are cell
     /// means ([`Scene::traction_strips`]; docs/reference/model.md, "Traction quadrature").
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[cfg_attr(feature = "openapi", schema(minimum = 1, maximum = 200))]
     pub traction_strips: Option<usize>,
     /// Where those samples sit and what load each carries (docs/reference/model.md, "Traction
     /// quadrature").
