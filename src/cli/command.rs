@@ -5,11 +5,22 @@ use super::{
     analyze, bench, inspect, quasi_static, run, scene_cmd, serve_cmd, study, token_cmd, worker_cmd,
 };
 use clap::{Parser, Subcommand};
+use std::sync::LazyLock;
+
+/// `--version`: the package's version and the engine build's digest, which every
+/// simulation record the service stores also names (`bearing_core::ENGINE_DIGEST`).
+static VERSION_TEXT: LazyLock<String> = LazyLock::new(|| {
+    format!(
+        "{} (engine {})",
+        env!("CARGO_PKG_VERSION"),
+        bearing_core::ENGINE_DIGEST
+    )
+});
 
 #[derive(Parser)]
 #[command(
     name = "bearing-sim",
-    version,
+    version = VERSION_TEXT.as_str(),
     about = "Angular contact ball bearing dynamics and fault diagnosis"
 )]
 pub struct Cli {

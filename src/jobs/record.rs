@@ -36,6 +36,11 @@ pub struct AnalysisJobRecord {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, ToSchema)]
 pub struct SimulationRecord {
     pub scene_name: String,
+    /// The engine build that computed this record: `bearing_core::ENGINE_DIGEST`, 16 hex
+    /// digits over the engine's sources, locked dependencies and compiler. Absent (empty)
+    /// in records stored before it existed.
+    #[serde(default)]
+    pub engine: String,
     pub solver: SolverStats,
     /// Window of the averages and of the analysis, s.
     pub steady_window: [f64; 2],

@@ -81,6 +81,7 @@ pub fn summarize(scene: &ValidScene, result: &SimResult) -> (SimulationRecord, V
     let stat = |f: fn(&BallSummary) -> f64| MinMeanMax::of(s.balls.iter().map(f));
     let record = SimulationRecord {
         scene_name: scene.name.clone(),
+        engine: bearing_core::ENGINE_DIGEST.to_string(),
         solver: s.stats.clone(),
         steady_window: s.steady_window,
         shaft_speed: SpeedRecord {

@@ -34,6 +34,13 @@
 //! - `stress` (feature `stress`, off by default): the stability stress suite: extreme scenes
 //!   and the invariants their runs keep (or the field their refusal names).
 
+/// The engine's identity: 16 hex digits of a SHA-256 over its sources, its manifest, the
+/// workspace's locked dependency versions and the compiler's version (`build.rs`). Two
+/// builds with the same digest compute the same numbers; results stored by one build are
+/// reused only by builds with its digest (the service's study scene key), and every
+/// simulation record names the digest that computed it.
+pub const ENGINE_DIGEST: &str = env!("BEARING_CORE_ENGINE_DIGEST");
+
 pub mod dynamics;
 pub mod json_doc;
 pub mod json_float;
