@@ -1,56 +1,48 @@
-//! The engine's identity (`bearing_core::ENGINE_DIGEST`): a digest of everything that
-//! decides the numbers a run computes, so that two builds with the same digest compute the
-//! same numbers and a stored result is never taken for another build's.
+//! The engine's identity (`bearing_core::ENGINE_DIGEST`): a digest of what decides the
+//! numbers a run computes, so that a result stored by one build is never taken for
+//! another's.
 //!
-//! Hashed: every file under `src/` (path and content, in path order), this crate's
-//! manifest (its features), the workspace's lock file when there is one (the exact
-//! versions of nalgebra, rustfft and the rest) and the compiler's version. Generous on
-//! purpose: a change to a comment or to a dependency only the service uses also gives a new
-//! digest, which costs a rerun and never a stale result.
+//! Hashed: the files under `src/` (`build_digest.rs`), this crate's manifest (its
+//! features), the workspace's lock file when there is one (the exact versions of
+//! nalgebra, rustfft and the rest), the compiler's version, the target and the compiler
+//! flags. Generous on purpose: a change to a comment or to a dependency only the service
+//! uses also gives a new digest, which costs a rerun and never a stale result.
 
 use sha2::{Digest, Sha256};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
+include!("build_digest.rs");
+
 fn main() {
-    let dir = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
-    let mut files = Vec::new();
-    collect(&dir.join("src"), &mut files);
-    files.sort();
+    let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
     let mut h = Sha256::new();
-    for f in &files {
-        let rel = f.strip_prefix(&dir).expect("under the crate");
-        h.update(rel.to_string_lossy().as_bytes());
-        h.update([0]);
-        h.update(std::fs::read(f).expect("a source file reads"));
-        h.update([0]);
-    }
-    h.update(std::fs::read(dir.join("Cargo.toml")).expect("the manifest reads"));
-    let lock = dir.join("../../Cargo.lock");
-    if let Ok(text) = std::fs::read(&lock) {
-        h.update(text);
-        println!("cargo:rerun-if-changed={}", lock.display());
+    digest_tree(&mut h, &root, "src");
+    h.update(std::fs::read(root.join("Cargo.toml")).expect("the manifest reads"));
+    // absent when the crate is built outside this workspace (then the versions are whatever
+    // that build resolves, and the digest cannot vouch for them)
+    let lock = root.join("../../Cargo.lock");
+    match std::fs::read(&lock) {
+        Ok(text) => {
+            h.update(text);
+            println!("cargo:rerun-if-changed={}", lock.display());
+        }
+        Err(_) => h.update(b"no lock file"),
     }
     let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
-    if let Ok(out) = Command::new(rustc).arg("-V").output() {
-        h.update(out.stdout);
+    let version = Command::new(rustc)
+        .arg("-V")
+        .output()
+        .expect("the compiler runs");
+    h.update(version.stdout);
+    for var in ["TARGET", "CARGO_ENCODED_RUSTFLAGS"] {
+        h.update(std::env::var(var).unwrap_or_default().as_bytes());
+        h.update([0]);
     }
-    let hex: String = h.finalize()[..8]
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect();
-    println!("cargo:rustc-env=BEARING_CORE_ENGINE_DIGEST={hex}");
-    println!("cargo:rerun-if-changed=src");
+    println!(
+        "cargo:rustc-env=BEARING_CORE_ENGINE_DIGEST={}",
+        digest_hex(h)
+    );
     println!("cargo:rerun-if-changed=Cargo.toml");
-}
-
-fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).expect("src reads") {
-        let path = entry.expect("a directory entry").path();
-        if path.is_dir() {
-            collect(&path, out);
-        } else {
-            out.push(path);
-        }
-    }
+    println!("cargo:rerun-if-changed=build_digest.rs");
 }

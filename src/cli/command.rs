@@ -7,13 +7,15 @@ use super::{
 use clap::{Parser, Subcommand};
 use std::sync::LazyLock;
 
-/// `--version`: the package's version and the engine build's digest, which every
-/// simulation record the service stores also names (`bearing_core::ENGINE_DIGEST`).
+/// `--version`: the package's version and the build's digests: the engine's
+/// (`bearing_core::ENGINE_DIGEST`, which every simulation record names) and the record
+/// code's (`studies::scene_key::RECORD_DIGEST`); studies reuse runs only of the same two.
 static VERSION_TEXT: LazyLock<String> = LazyLock::new(|| {
     format!(
-        "{} (engine {})",
+        "{} (engine {}, records {})",
         env!("CARGO_PKG_VERSION"),
-        bearing_core::ENGINE_DIGEST
+        bearing_core::ENGINE_DIGEST,
+        crate::studies::scene_key::RECORD_DIGEST
     )
 });
 

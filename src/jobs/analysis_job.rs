@@ -81,5 +81,6 @@ pub fn execute(
         result: to_stored(&record)?,
         stats: None,
         artifacts,
+        scene_key: None,
     })
 }

@@ -9,6 +9,9 @@ pub struct JobOutput {
     /// Solver statistics (simulations).
     pub stats: Option<serde_json::Value>,
     pub artifacts: Vec<Artifact>,
+    /// The run's study scene key under this build (simulations), written over the
+    /// submitter's (`store::Outcome::Succeeded`).
+    pub scene_key: Option<String>,
 }
 
 /// A job that did not succeed.

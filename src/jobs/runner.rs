@@ -122,6 +122,7 @@ async fn run_claimed(env: &WorkerEnv, job: Claimed, shutdown: &mut watch::Receiv
                 result: out.result,
                 stats: out.stats,
                 artifacts: out.artifacts,
+                scene_key: out.scene_key,
             }),
         ),
         // the limit wins over a shutdown or cancel that came later: the run did end on it

@@ -9,6 +9,7 @@ use super::record::{
     SimulationRecord, SpeedRecord,
 };
 use crate::store::{Artifact, FailureKind};
+use crate::studies::scene_key;
 use bearing_core::scene::ValidScene;
 use bearing_core::simulation::{simulate, BallSummary, RunControl, SimError, SimResult};
 use bearing_core::simulation_analysis::{
@@ -54,6 +55,7 @@ pub fn execute(input: &serde_json::Value, ctl: &Control) -> Result<JobOutput, Jo
         result: to_stored(&record)?,
         stats,
         artifacts,
+        scene_key: Some(scene_key(&scene)),
     })
 }
 

@@ -266,6 +266,11 @@ pub enum Outcome {
         result: serde_json::Value,
         stats: Option<serde_json::Value>,
         artifacts: Vec<Artifact>,
+        /// The run's study scene key under the build that computed it (simulations; see
+        /// `studies::scene_key`): it replaces the key the submitting node wrote, so that
+        /// during a rolling upgrade a run an older worker computed is not reused by studies
+        /// of the newer build. None leaves the key as it is.
+        scene_key: Option<String>,
     },
     Failed {
         error: JobError,

@@ -1,28 +1,41 @@
-//! The key identical points share a run by: SHA-256 of the engine's digest and the scene's
+//! The key identical points share a run by: SHA-256 of the build's digests and the scene's
 //! canonical JSON (the validated scene serialized with its fields in declaration order).
 //!
-//! The digest is in the key because a stored run is only the same run for the build that
-//! computed it: a study submitted after an upgrade that changed the physics, its defaults
-//! (a scene's absent traction node count, say) or the analysis must not reuse the old
-//! numbers. Jobs stored before the digest was in the key are reused by no build.
+//! The digests are in the key because a stored run is only the same run for a build with
+//! the same engine (`bearing_core::ENGINE_DIGEST`: the physics, its defaults, the analysis)
+//! and the same record code ([`RECORD_DIGEST`]): a study submitted after an upgrade that
+//! changed either must not reuse the old numbers. The worker that finishes a run writes
+//! the key under its own build (`store::Outcome::Succeeded`), so during a rolling upgrade a
+//! run an older worker computed is reused only by the older build's studies. Jobs stored
+//! before the digests were in the key are reused by no build.
 
 use bearing_core::scene::ValidScene;
 use bearing_core::ENGINE_DIGEST;
 use sha2::{Digest, Sha256};
 
-/// Hex SHA-256 of this build's engine digest and the scene's canonical JSON.
+/// The digest of the service's record code (`src/jobs`, by the workspace's `build.rs`):
+/// what turns an engine result into the stored record and artifacts. 16 hex digits.
+pub const RECORD_DIGEST: &str = env!("BEARING_SIM_RECORD_DIGEST");
+
+/// Hex SHA-256 of this build's engine and record digests and the scene's canonical JSON.
 pub fn scene_key(scene: &ValidScene) -> String {
-    scene_key_for(scene, ENGINE_DIGEST)
+    scene_key_for(scene, ENGINE_DIGEST, RECORD_DIGEST)
 }
 
-/// [`scene_key`] under the engine digest `engine`.
-fn scene_key_for(scene: &ValidScene, engine: &str) -> String {
+/// [`scene_key`] under the engine digest `engine` and the record digest `record`.
+fn scene_key_for(scene: &ValidScene, engine: &str, record: &str) -> String {
     let text = serde_json::to_string(scene.scene()).expect("a scene serializes");
     let mut h = Sha256::new();
-    h.update(engine.as_bytes());
-    h.update([0]);
+    for part in [engine, record] {
+        h.update(part.as_bytes());
+        h.update([0]);
+    }
     h.update(text.as_bytes());
-    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+    hex(&h.finalize())
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 #[cfg(test)]
@@ -38,18 +51,25 @@ mod tests {
     }
 
     #[test]
-    fn a_scene_has_one_key_per_engine() {
+    fn a_scene_has_one_key_per_build() {
         let s = preset();
-        assert_eq!(scene_key(&s), scene_key_for(&s, ENGINE_DIGEST));
+        let (a, b) = ("0123456789abcdef", "fedcba9876543210");
         assert_eq!(
-            scene_key_for(&s, "0123456789abcdef"),
-            scene_key_for(&s, "0123456789abcdef")
+            scene_key(&s),
+            scene_key_for(&s, ENGINE_DIGEST, RECORD_DIGEST)
         );
+        assert_ne!(scene_key_for(&s, a, a), scene_key_for(&s, b, a), "engine");
         assert_ne!(
-            scene_key_for(&s, "0123456789abcdef"),
-            scene_key_for(&s, "fedcba9876543210")
+            scene_key_for(&s, a, a),
+            scene_key_for(&s, a, b),
+            "record code"
         );
-        assert_eq!(ENGINE_DIGEST.len(), 16);
-        assert!(ENGINE_DIGEST.bytes().all(|b| b.is_ascii_hexdigit()));
+        // nor the key the scene had before the digests were in it, so no old row matches
+        let text = serde_json::to_string(s.scene()).unwrap();
+        assert_ne!(scene_key(&s), hex(&Sha256::digest(text.as_bytes())));
+        for d in [ENGINE_DIGEST, RECORD_DIGEST] {
+            assert_eq!(d.len(), 16);
+            assert!(d.bytes().all(|b| b.is_ascii_hexdigit()));
+        }
     }
 }

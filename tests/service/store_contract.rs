@@ -48,6 +48,7 @@ contract!(
     study_points_keep_their_input_format,
     concurrent_submissions_fill_the_queue_to_its_bound_exactly,
     studies_share_identical_points_and_earlier_runs,
+    a_run_is_reused_under_the_key_of_the_build_that_computed_it,
     a_study_over_the_queue_bound_stores_nothing,
     cancelling_a_study_spares_points_another_study_wants,
     deleting_studies_and_their_points,
@@ -89,6 +90,7 @@ fn succeeded(artifacts: Vec<Artifact>) -> Outcome {
         result: json!({"ok": true}),
         stats: None,
         artifacts,
+        scene_key: None,
     }
 }
 
@@ -137,6 +139,7 @@ async fn a_stale_lease_can_never_write(s: Arc<dyn Store>) {
             result: json!({"ok": true}),
             stats: None,
             artifacts: vec![],
+            scene_key: None,
         },
     )
     .await
@@ -625,6 +628,38 @@ async fn studies_share_identical_points_and_earlier_runs(s: Arc<dyn Store>) {
         s.get_study("nope").await,
         Err(StoreError::StudyNotFound(_))
     ));
+}
+
+/// During a rolling upgrade a newer node's study point may be run by an older worker: the
+/// worker's outcome writes the key of its own build, so the newer build's later studies
+/// queue the point again and the older build's reuse it.
+async fn a_run_is_reused_under_the_key_of_the_build_that_computed_it(s: Arc<dyn Store>) {
+    let a = s
+        .create_study(new_study("", &["new-build"]), 100)
+        .await
+        .unwrap();
+    let lease = s.claim("W", 60_000).await.unwrap().expect("queued").lease;
+    let mut outcome = succeeded(vec![]);
+    if let Outcome::Succeeded { scene_key, .. } = &mut outcome {
+        *scene_key = Some("old-build".into());
+    }
+    s.finish(&lease, outcome).await.unwrap();
+    assert_eq!(lease.id, a.study.points[0].job.id);
+    let newer = s
+        .create_study(new_study("", &["new-build"]), 100)
+        .await
+        .unwrap();
+    assert_eq!((newer.queued, newer.shared), (1, 0));
+    assert_ne!(newer.study.points[0].job.id, lease.id);
+    let older = s
+        .create_study(new_study("", &["old-build"]), 100)
+        .await
+        .unwrap();
+    assert_eq!((older.queued, older.shared), (0, 1));
+    assert_eq!(older.study.points[0].job.id, lease.id);
+    // the first study keeps its point's run
+    let a_now = s.get_study(&a.study.id).await.unwrap();
+    assert_eq!(a_now.points[0].job.id, lease.id);
 }
 
 async fn a_study_over_the_queue_bound_stores_nothing(s: Arc<dyn Store>) {

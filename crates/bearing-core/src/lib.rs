@@ -35,10 +35,12 @@
 //!   and the invariants their runs keep (or the field their refusal names).
 
 /// The engine's identity: 16 hex digits of a SHA-256 over its sources, its manifest, the
-/// workspace's locked dependency versions and the compiler's version (`build.rs`). Two
-/// builds with the same digest compute the same numbers; results stored by one build are
-/// reused only by builds with its digest (the service's study scene key), and every
-/// simulation record names the digest that computed it.
+/// workspace's locked dependency versions, the compiler's version, the target and the
+/// compiler flags (`build.rs`). Builds with the same digest are the same engine; on one
+/// machine class they compute the same numbers (the FFT's vector code and the C library's
+/// functions are chosen where the binary runs). The service's studies reuse a stored run
+/// only for builds with its digest (the study scene key), and every simulation record
+/// names the digest that computed it.
 pub const ENGINE_DIGEST: &str = env!("BEARING_CORE_ENGINE_DIGEST");
 
 pub mod dynamics;

@@ -103,13 +103,14 @@ pub(super) async fn finish<B: Backend>(
     outcome: Outcome,
 ) -> Result<(), StoreError> {
     let now = now_ms();
-    let (state, progress, error, stats, result, artifacts) = finished_row(outcome);
+    let (state, progress, error, stats, result, artifacts, key) = finished_row(outcome);
     let mut tx = pool.begin().await?;
     // The fenced write first: it locks the row (PostgreSQL) or takes the write lock
     // (SQLite) until commit.
     let sql = format!(
         "UPDATE jobs SET state = $4, progress = COALESCE($5, progress), error = $6, stats = $7, result = $8, \
-             finished_at = $9, updated_at = $9, owner = NULL, lease_expires_at = NULL, version = version + 1 \
+             finished_at = $9, updated_at = $9, owner = NULL, lease_expires_at = NULL, version = version + 1, \
+             scene_key = COALESCE($10, scene_key) \
          WHERE {HELD}"
     );
     let n = fenced::<B>(&sql, lease)
@@ -119,6 +120,7 @@ pub(super) async fn finish<B: Backend>(
         .param(stats)
         .param(result)
         .param(now)
+        .param(key)
         .execute(B::on(&mut *tx))
         .await?
         .rows_affected();

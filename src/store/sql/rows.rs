@@ -178,7 +178,8 @@ pub(super) fn artifact_from_row(job: &str, r: &impl Columns) -> Result<Artifact,
     })
 }
 
-/// What a finished job's row gets: (state, progress, error, stats, result, artifacts).
+/// What a finished job's row gets: (state, progress, error, stats, result, artifacts,
+/// scene key).
 pub(super) type FinishedRow = (
     &'static str,
     Option<f64>,
@@ -186,17 +187,29 @@ pub(super) type FinishedRow = (
     Option<String>,
     Option<String>,
     Vec<Artifact>,
+    Option<String>,
 );
 
 pub(super) fn finished_row(outcome: Outcome) -> FinishedRow {
-    let (state, progress, error, stats, result, artifacts) = match outcome {
+    let (state, progress, error, stats, result, artifacts, key) = match outcome {
         Outcome::Succeeded {
             result,
             stats,
             artifacts,
-        } => ("succeeded", Some(1.0), None, stats, Some(result), artifacts),
-        Outcome::Failed { error, stats } => ("failed", None, Some(error), stats, None, vec![]),
-        Outcome::Cancelled { error } => ("cancelled", None, Some(error), None, None, vec![]),
+            scene_key,
+        } => (
+            "succeeded",
+            Some(1.0),
+            None,
+            stats,
+            Some(result),
+            artifacts,
+            scene_key,
+        ),
+        Outcome::Failed { error, stats } => {
+            ("failed", None, Some(error), stats, None, vec![], None)
+        }
+        Outcome::Cancelled { error } => ("cancelled", None, Some(error), None, None, vec![], None),
     };
     (
         state,
@@ -205,6 +218,7 @@ pub(super) fn finished_row(outcome: Outcome) -> FinishedRow {
         opt_json(&stats),
         opt_json(&result),
         artifacts,
+        key,
     )
 }
 
