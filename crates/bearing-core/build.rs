@@ -17,7 +17,7 @@ include!("build_digest.rs");
 fn main() {
     let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("set by cargo"));
     let mut h = Sha256::new();
-    digest_tree(&mut h, &root, "src");
+    digest_tree(&mut h, &root, &["src"]);
     h.update(std::fs::read(root.join("Cargo.toml")).expect("the manifest reads"));
     // absent when the crate is built outside this workspace (then the versions are whatever
     // that build resolves, and the digest cannot vouch for them)

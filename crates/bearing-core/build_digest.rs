@@ -2,14 +2,22 @@
 // workspace's `build.rs`, by `include!`): a digest of a source tree, so that a build knows
 // which code computed the numbers it stores. Not a module of either crate.
 
-/// Feed every file under `root/dir` into `h`, in path order: its path from `root` (with
-/// `/` separators) and its bytes. Hidden files and editors' leftovers (`~`, `.orig`,
-/// `.rej`, `.swp`) are not the tree's code and are skipped, so a checkout with them gives
-/// the same digest as a clean clone.
-fn digest_tree(h: &mut sha2::Sha256, root: &std::path::Path, dir: &str) {
+/// Feed every file of `paths` (files, or directories taken whole; relative to `root`) into
+/// `h`, in path order: its path from `root` (with `/` separators) and its bytes. Hidden
+/// files and editors' leftovers (`~`, `.orig`, `.rej`, `.swp`) are not the tree's code and
+/// are skipped, so a checkout with them gives the same digest as a clean clone.
+fn digest_tree(h: &mut sha2::Sha256, root: &std::path::Path, paths: &[&str]) {
     use sha2::Digest;
     let mut files = Vec::new();
-    collect_files(&root.join(dir), &mut files);
+    for p in paths {
+        let path = root.join(p);
+        if path.is_dir() {
+            collect_files(&path, &mut files);
+        } else {
+            files.push(path);
+        }
+        println!("cargo:rerun-if-changed={p}");
+    }
     let mut named: Vec<(String, std::path::PathBuf)> = files
         .into_iter()
         .map(|f| {
@@ -28,7 +36,6 @@ fn digest_tree(h: &mut sha2::Sha256, root: &std::path::Path, dir: &str) {
         h.update(std::fs::read(&path).expect("a source file reads"));
         h.update([0]);
     }
-    println!("cargo:rerun-if-changed={dir}");
 }
 
 fn collect_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {

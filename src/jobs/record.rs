@@ -37,8 +37,8 @@ pub struct AnalysisJobRecord {
 pub struct SimulationRecord {
     pub scene_name: String,
     /// The engine build that computed this record: `bearing_core::ENGINE_DIGEST`, 16 hex
-    /// digits over the engine's sources, locked dependencies and compiler. Empty in records
-    /// stored before it existed.
+    /// digits over the engine's sources, locked dependencies, compiler, target and compiler
+    /// flags. Empty in records stored before it existed.
     #[serde(default)]
     pub engine: String,
     pub solver: SolverStats,

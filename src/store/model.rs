@@ -269,7 +269,8 @@ pub enum Outcome {
         /// The run's study scene key under the build that computed it (simulations; see
         /// `studies::scene_key`): it replaces the key the submitting node wrote, so that
         /// during a rolling upgrade a run an older worker computed is not reused by studies
-        /// of the newer build. None leaves the key as it is.
+        /// of the newer build. None leaves the key as it is; a job that has none (a
+        /// simulation submitted on its own, not a study point) keeps none.
         scene_key: Option<String>,
     },
     Failed {

@@ -43,6 +43,24 @@ mod tests {
     use super::*;
     use bearing_core::scene::{fault_case_scene, FaultCase};
 
+    /// The worker parses the stored scene back from its JSON text and writes the key of
+    /// what it parsed (`jobs::simulation_job`): that key must be the API's, also for a
+    /// 17-digit value such as 7 deg in radians, which serde_json's default float parser
+    /// reads back an ulp off (0.12217304763960307 as ...309) and `float_roundtrip` does not.
+    #[test]
+    fn a_stored_scene_parses_back_to_the_same_key() {
+        let mut scene = fault_case_scene("h7005c", FaultCase::Outer).expect("a preset");
+        scene.operating.radial_load_angle = 7.0 * std::f64::consts::PI / 180.0;
+        let valid = scene.validated().expect("valid");
+        let text = serde_json::to_string(&valid).unwrap();
+        let back: ValidScene = serde_json::from_str(&text).unwrap();
+        assert_eq!(
+            back.scene().operating.radial_load_angle.to_bits(),
+            valid.scene().operating.radial_load_angle.to_bits()
+        );
+        assert_eq!(scene_key(&back), scene_key(&valid));
+    }
+
     fn preset() -> ValidScene {
         fault_case_scene("h7005c", FaultCase::Compound)
             .expect("a preset")

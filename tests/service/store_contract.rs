@@ -660,6 +660,29 @@ async fn a_run_is_reused_under_the_key_of_the_build_that_computed_it(s: Arc<dyn 
     // the first study keeps its point's run
     let a_now = s.get_study(&a.study.id).await.unwrap();
     assert_eq!(a_now.points[0].job.id, lease.id);
+
+    // a simulation submitted on its own has no key and gets none: no study takes it over
+    // (it stays the submitter's to delete)
+    assert_eq!(run_next(&s).await, newer.study.points[0].job.id);
+    let own = s
+        .create_job(new_job(None, "own"), 100)
+        .await
+        .unwrap()
+        .job
+        .id;
+    let lease = s.claim("W", 60_000).await.unwrap().expect("queued").lease;
+    assert_eq!(lease.id, own);
+    let mut outcome = succeeded(vec![]);
+    if let Outcome::Succeeded { scene_key, .. } = &mut outcome {
+        *scene_key = Some("own-build".into());
+    }
+    s.finish(&lease, outcome).await.unwrap();
+    let later = s
+        .create_study(new_study("", &["own-build"]), 100)
+        .await
+        .unwrap();
+    assert_eq!((later.queued, later.shared), (1, 0));
+    assert_ne!(later.study.points[0].job.id, own);
 }
 
 async fn a_study_over_the_queue_bound_stores_nothing(s: Arc<dyn Store>) {

@@ -106,11 +106,13 @@ pub(super) async fn finish<B: Backend>(
     let (state, progress, error, stats, result, artifacts, key) = finished_row(outcome);
     let mut tx = pool.begin().await?;
     // The fenced write first: it locks the row (PostgreSQL) or takes the write lock
-    // (SQLite) until commit.
+    // (SQLite) until commit. A study point's key becomes the finishing worker's
+    // (`Outcome::Succeeded`); a job without one (a simulation submitted on its own) keeps
+    // none, so no study takes it over.
     let sql = format!(
         "UPDATE jobs SET state = $4, progress = COALESCE($5, progress), error = $6, stats = $7, result = $8, \
              finished_at = $9, updated_at = $9, owner = NULL, lease_expires_at = NULL, version = version + 1, \
-             scene_key = COALESCE($10, scene_key) \
+             scene_key = CASE WHEN scene_key IS NULL THEN NULL ELSE COALESCE($10, scene_key) END \
          WHERE {HELD}"
     );
     let n = fenced::<B>(&sql, lease)
