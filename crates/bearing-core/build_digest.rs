@@ -41,7 +41,10 @@ fn digest_tree(h: &mut sha2::Sha256, root: &std::path::Path, paths: &[&str]) {
 fn collect_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
     for entry in std::fs::read_dir(dir).expect("a source directory reads") {
         let path = entry.expect("a directory entry").path();
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let leftover = [".orig", ".rej", ".swp"].iter().any(|e| name.ends_with(e));
         if name.starts_with('.') || name.ends_with('~') || leftover {
             continue;
@@ -57,5 +60,8 @@ fn collect_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
 /// The first 8 bytes of the digest, as 16 hex digits.
 fn digest_hex(h: sha2::Sha256) -> String {
     use sha2::Digest;
-    h.finalize()[..8].iter().map(|b| format!("{b:02x}")).collect()
+    h.finalize()[..8]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
