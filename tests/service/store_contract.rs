@@ -96,13 +96,22 @@ fn succeeded(artifacts: Vec<Artifact>) -> Outcome {
 
 /// Claim the next job and finish it as succeeded; returns its id.
 async fn run_next(s: &Arc<dyn Store>) -> String {
+    run_next_keyed(s, None).await
+}
+
+/// [`run_next`] by a worker whose build writes the scene key `key`.
+async fn run_next_keyed(s: &Arc<dyn Store>, key: Option<&str>) -> String {
     let l = s
         .claim("W", 60_000)
         .await
         .unwrap()
         .expect("a queued job")
         .lease;
-    s.finish(&l, succeeded(vec![])).await.unwrap();
+    let mut outcome = succeeded(vec![]);
+    if let Outcome::Succeeded { scene_key, .. } = &mut outcome {
+        *scene_key = key.map(String::from);
+    }
+    s.finish(&l, outcome).await.unwrap();
     l.id
 }
 
@@ -634,32 +643,22 @@ async fn studies_share_identical_points_and_earlier_runs(s: Arc<dyn Store>) {
 /// worker's outcome writes the key of its own build, so the newer build's later studies
 /// queue the point again and the older build's reuse it.
 async fn a_run_is_reused_under_the_key_of_the_build_that_computed_it(s: Arc<dyn Store>) {
-    let a = s
-        .create_study(new_study("", &["new-build"]), 100)
-        .await
-        .unwrap();
-    let lease = s.claim("W", 60_000).await.unwrap().expect("queued").lease;
-    let mut outcome = succeeded(vec![]);
-    if let Outcome::Succeeded { scene_key, .. } = &mut outcome {
-        *scene_key = Some("old-build".into());
-    }
-    s.finish(&lease, outcome).await.unwrap();
-    assert_eq!(lease.id, a.study.points[0].job.id);
-    let newer = s
-        .create_study(new_study("", &["new-build"]), 100)
-        .await
-        .unwrap();
+    let study = |key: &'static str| {
+        let s = s.clone();
+        async move { s.create_study(new_study("", &[key]), 100).await.unwrap() }
+    };
+    let a = study("new-build").await;
+    let run = run_next_keyed(&s, Some("old-build")).await;
+    assert_eq!(run, a.study.points[0].job.id);
+    let newer = study("new-build").await;
     assert_eq!((newer.queued, newer.shared), (1, 0));
-    assert_ne!(newer.study.points[0].job.id, lease.id);
-    let older = s
-        .create_study(new_study("", &["old-build"]), 100)
-        .await
-        .unwrap();
+    assert_ne!(newer.study.points[0].job.id, run);
+    let older = study("old-build").await;
     assert_eq!((older.queued, older.shared), (0, 1));
-    assert_eq!(older.study.points[0].job.id, lease.id);
+    assert_eq!(older.study.points[0].job.id, run);
     // the first study keeps its point's run
     let a_now = s.get_study(&a.study.id).await.unwrap();
-    assert_eq!(a_now.points[0].job.id, lease.id);
+    assert_eq!(a_now.points[0].job.id, run);
 
     // a simulation submitted on its own has no key and gets none: no study takes it over
     // (it stays the submitter's to delete)
@@ -670,17 +669,8 @@ async fn a_run_is_reused_under_the_key_of_the_build_that_computed_it(s: Arc<dyn 
         .unwrap()
         .job
         .id;
-    let lease = s.claim("W", 60_000).await.unwrap().expect("queued").lease;
-    assert_eq!(lease.id, own);
-    let mut outcome = succeeded(vec![]);
-    if let Outcome::Succeeded { scene_key, .. } = &mut outcome {
-        *scene_key = Some("own-build".into());
-    }
-    s.finish(&lease, outcome).await.unwrap();
-    let later = s
-        .create_study(new_study("", &["own-build"]), 100)
-        .await
-        .unwrap();
+    assert_eq!(run_next_keyed(&s, Some("own-build")).await, own);
+    let later = study("own-build").await;
     assert_eq!((later.queued, later.shared), (1, 0));
     assert_ne!(later.study.points[0].job.id, own);
 }
