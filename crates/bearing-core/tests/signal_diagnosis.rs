@@ -113,14 +113,20 @@ fn table_1_compound_reads_both_races() {
     diagnose(&fault_case_scene("h7005c", FaultCase::None).unwrap());
 }
 
-#[test]
-fn a_run_up_is_order_tracked_and_says_so() {
-    let mut s = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+/// The compound fault run up from 1000 to 10000 rpm over the whole 0.2 s of `s`.
+fn run_up(mut s: Scene) -> Scene {
     s.operating.speed.initial_rpm = 1_000.0;
     s.operating.speed.steady_rpm = 10_000.0;
     s.operating.speed.ramp_time = 0.2;
     s.solver.duration = 0.2;
-    let d = diagnose(&s);
+    s
+}
+
+#[test]
+fn a_run_up_is_order_tracked_and_says_so() {
+    let d = diagnose(&run_up(
+        fault_case_scene("h7005c", FaultCase::Compound).unwrap(),
+    ));
     // the steady window [0.1, 0.2] s lies in the ramp (5500 -> 10000 rpm): never analysed
     // as steady without saying so
     assert!(d.order_tracked);
@@ -168,12 +174,9 @@ fn under_the_rheology_law_every_scene_reads_its_faults() {
         let d = diagnose(&rheology(fault_case_scene("h7005c", case).unwrap()));
         assert_eq!(d.faults, want, "Table-1 {case:?}: {}", d.verdict.summary);
     }
-    let mut s = rheology(fault_case_scene("h7005c", FaultCase::Compound).unwrap());
-    s.operating.speed.initial_rpm = 1_000.0;
-    s.operating.speed.steady_rpm = 10_000.0;
-    s.operating.speed.ramp_time = 0.2;
-    s.solver.duration = 0.2;
-    let d = diagnose(&s);
+    let d = diagnose(&run_up(rheology(
+        fault_case_scene("h7005c", FaultCase::Compound).unwrap(),
+    )));
     assert!(d.order_tracked);
     assert_eq!(
         d.faults,
