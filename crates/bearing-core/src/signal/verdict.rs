@@ -1449,35 +1449,67 @@ mod tests {
     #[test]
     fn after_an_accepted_fault_the_outer_race_and_the_balls_keep_their_rate() {
         let (fr, _, bpfi, theory) = lagging_compound();
-        let mut named = [0usize; 4];
-        for seed in 0..400u64 {
-            let spectra: Vec<Spectrum> = (0..3)
-                .map(|k| {
-                    synthetic_spectrum(1_000 + 3 * seed + k, 3_000, 1.0 / 0.3, |line| {
-                        for h in 1..=4 {
-                            let f = h as f64 * bpfi;
-                            line(f, 16.0);
-                            line(f - fr, 12.0);
-                            line(f + fr, 12.0);
-                        }
-                    })
-                })
-                .collect();
-            let v = verdict_of_three(&spectra, &theory, 0.05);
-            assert!(
-                v.faults.contains(&FaultType::InnerRace),
-                "seed {seed}: {v:#?}"
-            );
-            for f in &v.faults {
-                named[FaultType::ALL.iter().position(|g| g == f).unwrap()] += 1;
+        let named = named_beside(FaultType::InnerRace, &theory, |line| {
+            for h in 1..=4 {
+                let f = h as f64 * bpfi;
+                line(f, 16.0);
+                line(f - fr, 12.0);
+                line(f + fr, 12.0);
             }
-        }
+        });
         eprintln!("types named on 400 spectra with an inner race, rate 0.05: {named:?}");
         for (f, &n) in FaultType::ALL.iter().zip(&named) {
             if *f != FaultType::InnerRace {
                 assert!(n <= 33, "{f:?} named on {n} of 400");
             }
         }
+    }
+
+    /// The same with an outer race's lines (harmonics 16 times the floor's scale, their
+    /// first sidebands at the cage rate 12 times): the cage's first two harmonics are then
+    /// the outer race's lines, its 3rd and 4th are tested, and no other type may be named
+    /// on more than 33 of 400 spectra at a 5 % rate. Measured 2026-11-29 (inner race,
+    /// rolling element, cage): 4, 5, 12.
+    #[test]
+    fn after_an_accepted_outer_race_the_others_keep_their_rate() {
+        let (_, bpfo, _, theory) = lagging_compound();
+        let ftf = bpfo / 16.0;
+        let named = named_beside(FaultType::OuterRace, &theory, |line| {
+            for h in 1..=4 {
+                let f = h as f64 * bpfo;
+                line(f, 16.0);
+                line(f - ftf, 12.0);
+                line(f + ftf, 12.0);
+            }
+        });
+        eprintln!("types named on 400 spectra with an outer race, rate 0.05: {named:?}");
+        for (f, &n) in FaultType::ALL.iter().zip(&named) {
+            if *f != FaultType::OuterRace {
+                assert!(n <= 33, "{f:?} named on {n} of 400");
+            }
+        }
+    }
+
+    /// How often each type is named, at a 5 % rate, on 400 triples of synthetic spectra
+    /// (0.3 s, Rayleigh floors) holding the lines `lines` draws, the verdict having to name
+    /// `fault` on every one.
+    fn named_beside(
+        fault: FaultType,
+        theory: &CharacteristicFrequencies,
+        lines: impl Fn(&mut dyn FnMut(f64, f64)),
+    ) -> [usize; 4] {
+        let mut named = [0usize; 4];
+        for seed in 0..400u64 {
+            let spectra: Vec<Spectrum> = (0..3)
+                .map(|k| synthetic_spectrum(1_000 + 3 * seed + k, 3_000, 1.0 / 0.3, &lines))
+                .collect();
+            let v = verdict_of_three(&spectra, theory, 0.05);
+            assert!(v.faults.contains(&fault), "seed {seed}: {v:#?}");
+            for f in &v.faults {
+                named[FaultType::ALL.iter().position(|g| g == f).unwrap()] += 1;
+            }
+        }
+        named
     }
 
     /// A compound fault on 0.3 s of signal (3.3 Hz bins), read in three spectra, with the
