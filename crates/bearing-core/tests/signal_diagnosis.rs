@@ -94,8 +94,9 @@ fn short_constant_speed_runs_read_their_fault() {
             d.verdict.summary
         );
     }
-    // the compound run names both races: the inner race's lines (multiples of BPFI / Z,
-    // 17 Hz from 2xBPFO at 13 Hz resolution) no longer take the outer race's harmonics
+    // the compound run names both races: the inner race's lines (its ball-return
+    // sidebands, e.g. 24 BPFI / Z 17 Hz from 2xBPFO at 13 Hz resolution) do not take the
+    // outer race's harmonics
     let d = diagnose(&constant_speed(FaultCase::Compound, 0.1));
     assert_eq!(
         d.faults,
