@@ -422,7 +422,8 @@ impl<'a> RankedLines<'a> {
             // which prediction is nearer is judged at the line's interpolated frequency:
             // at 13 Hz bins the bin's own frequency can sit 4 Hz off (the 0.1 s compound
             // run's 2xBPFO at 2276.4 Hz in the bin at 2280 Hz read as nearer to
-            // 24 BPFI / Z = 2292.9 Hz than to 2 BPFO = 2269.2 Hz)
+            // 24 BPFI / Z = 2292.9 Hz, then a line of the inner race's set, than to
+            // 2 BPFO = 2269.2 Hz)
             if goes_to_set(f, self.frequency(k), set, kept, df) {
                 self.removed[i] = true;
             }
