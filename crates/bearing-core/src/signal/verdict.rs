@@ -852,47 +852,34 @@ fn explained_lines(
 ) -> Vec<f64> {
     let fr = theory.shaft_hz;
     let z = ball_count.max(1) as f64;
-    let mut v = Vec::new();
-    let shaft_sidebands = |v: &mut Vec<f64>, orders: &[i32]| {
-        for h in 1..=n + 1 {
-            for &o in orders {
-                v.push(h as f64 * f1 + o as f64 * fr);
-            }
-        }
-    };
     match fault {
+        // the harmonics with their first two shaft sidebands, and (one ball returning to the
+        // defect modulates the harmonics at f1 / Z) their first two ball-return sidebands,
+        // the zeroth harmonic's included; each further order that ranks as a family joins
+        // them (`further_sidebands`)
         FaultType::OuterRace | FaultType::InnerRace => {
-            // one ball returning to the defect modulates the harmonics at f1 / Z: their
-            // first two sidebands at that spacing (each further order that ranks as a
-            // family: `further_sidebands`)
-            for h in 0..=n + 1 {
-                for k in [-2.0, -1.0, 1.0, 2.0] {
-                    let f = (h as f64 + k / z) * f1;
-                    if f > 0.0 {
-                        v.push(f);
-                    }
-                }
-                if h > 0 {
-                    v.push(h as f64 * f1);
-                }
-            }
-            shaft_sidebands(&mut v, &[-2, -1, 1, 2]);
+            series_lines(f1, fr, 1..=n + 1, &[-2.0, -1.0, 0.0, 1.0, 2.0])
+                .chain(series_lines(f1, f1 / z, 0..=n + 1, &[-2.0, -1.0, 1.0, 2.0]))
+                .collect()
         }
         FaultType::RollingElement => {
             let ftf = theory.ftf * f1 / theory.bsf;
-            for h in 1..=2 * n + 2 {
-                for o in [-1.0, 0.0, 1.0] {
-                    v.push(h as f64 * f1 + o * ftf);
-                }
-            }
+            series_lines(f1, ftf, 1..=2 * n + 2, &[-1.0, 0.0, 1.0]).collect()
         }
-        FaultType::Cage => {
-            for h in 1..=3 * n {
-                v.push(h as f64 * f1);
-            }
-        }
+        FaultType::Cage => series_lines(f1, 0.0, 1..=3 * n, &[0.0]).collect(),
     }
-    v
+}
+
+/// The lines `h f1 + o spacing` (Hz) for `h` in `hs` and `o` in `orders`, those above zero:
+/// harmonics (`o = 0`) and their sidebands.
+fn series_lines(
+    f1: f64,
+    spacing: f64,
+    hs: std::ops::RangeInclusive<usize>,
+    orders: &[f64],
+) -> impl Iterator<Item = f64> + '_ {
+    hs.flat_map(move |h| orders.iter().map(move |&o| h as f64 * f1 + o * spacing))
+        .filter(|&f| f > 0.0)
 }
 
 /// Sidebands of an accepted race fault beyond the second order at `spacing` (Hz): order
@@ -930,10 +917,8 @@ fn further_sidebands(
         return out;
     }
     for k in 3..=k_max {
-        let lines: Vec<f64> = (h_from..=n)
-            .flat_map(|h| [-1.0, 1.0].map(|o| h as f64 * f1 + o * k as f64 * spacing))
-            .filter(|&f| f > 0.0)
-            .collect();
+        let lines: Vec<f64> =
+            series_lines(f1, k as f64 * spacing, h_from..=n, &[-1.0, 1.0]).collect();
         // the open types' harmonics as they would stand with this order taken (an anchor
         // on one of its lines is its line)
         let with: Vec<f64> = taken.iter().chain(&out).chain(&lines).copied().collect();
