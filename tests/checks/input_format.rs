@@ -47,6 +47,11 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         5,
         "85013d2d515774e116dec8e7f4e129ee0a01b8de00637ede3e6bdd83dd46dcc4",
     ),
+    // `abcd`'s coefficients default to the paper's curve, so `{"model": "abcd"}` names it
+    (
+        6,
+        "9778746895dd500bec95c468368f4e342e29daa0e8cf35a02b8a17a5e98834b7",
+    ),
 ];
 
 /// Keys that document a schema without changing what parses.

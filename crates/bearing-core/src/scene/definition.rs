@@ -201,8 +201,18 @@ impl Default for RollingResistanceModel {
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Traction {
     /// The paper's eq. 15, `mu(s) = (a + b s) exp(-c s) + d`; a, d in -, b in s/m, c in
-    /// s/m. The same at every load and speed.
-    Abcd { a: f64, b: f64, c: f64, d: f64 },
+    /// s/m. The same at every load and speed. A coefficient left out takes the ADORE sample
+    /// deck's ([`Traction::PAPER_CURVE`]), so `{"model": "abcd"}` is the paper's curve.
+    Abcd {
+        #[serde(default = "paper_curve_a")]
+        a: f64,
+        #[serde(default = "paper_curve_b")]
+        b: f64,
+        #[serde(default = "paper_curve_c")]
+        c: f64,
+        #[serde(default = "paper_curve_d")]
+        d: f64,
+    },
     /// ADORE-style description: mu at zero slip, peak value, value at large slip (all -)
     /// and the slip speed of the peak u_m (m/s). Converted to `Abcd`.
     Adore {
@@ -248,6 +258,28 @@ pub enum Traction {
         #[serde(default = "default_limiting_coefficient")]
         limiting_coefficient: f64,
     },
+}
+
+// The ADORE sample deck's eq. 15 coefficients (Traction::PAPER_CURVE), each a default.
+const PAPER_CURVE_A: f64 = -0.036;
+const PAPER_CURVE_B: f64 = 0.1018;
+const PAPER_CURVE_C: f64 = 1.547;
+const PAPER_CURVE_D: f64 = 0.036;
+
+fn paper_curve_a() -> f64 {
+    PAPER_CURVE_A
+}
+
+fn paper_curve_b() -> f64 {
+    PAPER_CURVE_B
+}
+
+fn paper_curve_c() -> f64 {
+    PAPER_CURVE_C
+}
+
+fn paper_curve_d() -> f64 {
+    PAPER_CURVE_D
 }
 
 fn default_rheology_limiting() -> f64 {
@@ -362,9 +394,9 @@ pub enum Integrator {
     /// Classical RK4 at `initial_step`.
     Rk4Fixed,
     /// Classical RK4 with step-size control from its first-same-as-last stage (an
-    /// embedded 3rd-order estimate at no extra evaluation); the default: the same
-    /// accuracy as `rk4_adaptive` at 1e-6 for about 70 % of its evaluations
-    /// (docs/lab/benchmarks.md).
+    /// embedded 3rd-order estimate at no extra evaluation); the default of a scene that
+    /// names none (the preset names `auto_slip`): the same accuracy as `rk4_adaptive` at
+    /// 1e-6 for about 70 % of its evaluations (docs/lab/benchmarks.md).
     #[default]
     Rk4Fsal,
     /// `rk4_fsal`, switching to `rosenbrock_w` while a stiff mode (the cage whirling on its
@@ -381,7 +413,7 @@ pub enum Integrator {
     /// modes, with RK4's stability and about its damping on them (docs/reference/model.md,
     /// "Time integration").
     SlipImplicit,
-    /// `rk4_fsal` and `slip_implicit`, each in turn challenged by the other, priced in
+    /// The preset's. `rk4_fsal` and `slip_implicit`, each in turn challenged by the other, priced in
     /// right-hand sides per simulated second as the run goes: `slip_implicit` takes the run
     /// where it costs at most 0.6 of `rk4_fsal` (where the balls' slip relaxation holds
     /// the explicit step, at low speed) and gives it back where it costs more than 0.9,
@@ -531,16 +563,16 @@ pub struct Outputs {
 impl Traction {
     /// The paper's eq. 15 with the ADORE sample deck's coefficients (MIL-L-23699: mu0 0,
     /// mu_max 0.05 at 1 m/s, mu_inf 0.036; `mu(0) = 0` keeps traction continuous through
-    /// zero slip): the preset's traction today; the rheology law replaces it once the
-    /// integration makes that law affordable (issues 33-34).
+    /// zero slip): `{"model": "abcd"}`. The preset's traction until 2026-11-29, when the
+    /// rheology law replaced it (issue 33; docs/reference/model.md, "Traction laws").
     pub const PAPER_CURVE: Traction = Traction::Abcd {
-        a: -0.036,
-        b: 0.1018,
-        c: 1.547,
-        d: 0.036,
+        a: PAPER_CURVE_A,
+        b: PAPER_CURVE_B,
+        c: PAPER_CURVE_C,
+        d: PAPER_CURVE_D,
     };
 
-    /// The rheology law with its defaults.
+    /// The rheology law with its defaults: the preset's traction since 2026-11-29.
     pub const RHEOLOGY: Traction = Traction::Rheology {
         limiting_coefficient: 0.047,
         roelands_z: None,
