@@ -44,7 +44,7 @@ pub struct PresetReference {
     pub fault_case: Option<FaultCase>,
     /// JSON merge patch (RFC 7396) over the preset scene, e.g. `{"solver": {"duration": 0.02}}`.
     /// A lubricant model named anew replaces the preset's whole: `{"lubricant": {"traction":
-    /// {"model": "rheology"}}}` is that law with its defaults.
+    /// {"model": "abcd"}}}` is the paper's eq. 15 curve with its defaults.
     #[serde(default)]
     #[schema(value_type = Option<Object>, nullable = false, example = json!({"solver": {"duration": 0.02}}))]
     pub overrides: Option<Value>,

@@ -119,7 +119,8 @@ pub fn sample_window(
 /// Either `{"scene": {...}}` or `{"preset": "h7005c", "fault_case": "compound",
 /// "overrides": {...}}` where `overrides` is a JSON merge patch (RFC 7396) applied to the
 /// preset scene (a lubricant model named anew, e.g. `{"lubricant": {"traction": {"model":
-/// "rheology"}}}`, replaces the preset's whole rather than merging into it). With an
+/// "abcd"}}}` for the paper's curve, replaces the preset's whole rather than merging into
+/// it). With an
 /// `Idempotency-Key`, repeating the same request returns the original job (200); the same
 /// key with a different request is a 422.
 #[utoipa::path(

@@ -328,13 +328,13 @@ async fn overrides_naming_another_traction_law_select_it() {
     let c = client();
     let url = s.url("/v1/quasi-static");
     let body = json!({"preset": "h7005c", "shaft_rpm": 10000,
-        "overrides": {"lubricant": {"traction": {"model": "rheology"}}}});
+        "overrides": {"lubricant": {"traction": {"model": "abcd"}}}});
     let (st, _, served) = post_json(&c, &url, &body).await;
     assert_eq!(st, 200, "{served}");
     let mut scene = bearing_core::scene::preset_scene("h7005c").unwrap();
-    scene.lubricant.traction = bearing_core::scene::Traction::RHEOLOGY;
+    scene.lubricant.traction = bearing_core::scene::Traction::PAPER_CURVE;
     let engine = bearing_core::quasi_static::solve(&scene.validated().unwrap(), 10_000.0).unwrap();
-    // the rheology law's own balance, to the last bits, not the preset curve's
+    // the paper's curve's own balance, to the last bits, not the preset rheology law's
     let cage = served["cage_speed"].as_f64().unwrap();
     let (st, _, plain) =
         post_json(&c, &url, &json!({"preset": "h7005c", "shaft_rpm": 10000})).await;
@@ -347,11 +347,13 @@ async fn overrides_naming_another_traction_law_select_it() {
     );
     // a field the named law does not have is still an error naming it
     let body = json!({"preset": "h7005c",
-        "overrides": {"lubricant": {"traction": {"model": "rheology", "a": 0.1}}}});
+        "overrides": {"lubricant": {"traction": {"model": "abcd", "limiting_coefficient": 0.1}}}});
     let (st, h, problem) = post_json(&c, &url, &body).await;
     assert_problem(st, &h, &problem, 422);
     assert!(
-        problem.to_string().contains("unknown field `a`"),
+        problem
+            .to_string()
+            .contains("unknown field `limiting_coefficient`"),
         "{problem}"
     );
 }

@@ -88,19 +88,19 @@ fn fidelity_compares_each_level_with_full() {
         "--levels",
         "quasi_static_balls",
         "--strips",
-        "4",
+        "3",
         "--quadratures",
         "equal_strips,gauss",
     ]);
     let full = rows(&table, "full");
     assert_eq!(full.len(), 1, "{table}");
-    // the reference is the scene's default: 10 Gauss samples
-    assert_eq!((full[0][2], full[0][3]), ("10", "gauss"), "{table}");
+    // the reference is the scene's default: the rheology law's 4 Gauss nodes
+    assert_eq!((full[0][2], full[0][3]), ("4", "gauss"), "{table}");
     let qs = rows(&table, "quasi_static_balls");
     assert_eq!(qs.len(), 2, "{table}");
     assert_eq!(
         (qs[0][1], qs[0][2], qs[0][3]),
-        ("rk4_fsal", "4", "equal_strips"),
+        ("auto_slip", "3", "equal_strips"),
         "{table}"
     );
     assert_eq!(qs[1][3], "gauss", "{table}");

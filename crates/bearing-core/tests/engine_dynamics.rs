@@ -21,6 +21,15 @@ fn constant_speed(duration: f64, tol: f64) -> Scene {
     s
 }
 
+/// `s` under the seed paper's model as the measurements below the tests that call this were
+/// made: the paper's eq. 15 curve, no rolling resistance, the explicit `rk4_fsal`.
+fn paper_model(mut s: Scene) -> Scene {
+    s.lubricant.traction = Traction::PAPER_CURVE;
+    s.lubricant.rolling_resistance = RollingResistanceModel::None;
+    s.solver.integrator = Integrator::Rk4Fsal;
+    s
+}
+
 fn run(s: &Scene) -> SimResult {
     simulate(&s.validated().unwrap(), RunControl::default()).unwrap()
 }
@@ -51,7 +60,10 @@ fn steady_run_agrees_with_quasi_static() {
 #[test]
 fn pocket_cycle_gives_the_running_cage_speed() {
     for rpm in [10_000.0, 12_000.0] {
-        let mut scene = constant_speed(0.2, 1e-5);
+        // the paper's model, where the figures above were measured; under the preset's
+        // rheology law the cycle's torque is a staircase and a 0.2 s run's cage has not
+        // settled (docs/reference/model.md, "Cage speed by the pocket cycle")
+        let mut scene = paper_model(constant_speed(0.2, 1e-5));
         scene.operating.speed.initial_rpm = rpm;
         scene.operating.speed.steady_rpm = rpm;
         let dynamic = run(&scene).summary.mean_cage_speed;
@@ -77,16 +89,20 @@ fn pocket_cycle_gives_the_running_cage_speed() {
 }
 
 /// Cash-Karp RK4 (the former default) and the Rosenbrock-W method reach the same steady
-/// state as the quasi-static solver, like the default integrator above, and the same mean
-/// cage speed as the default within the brief's 0.01 %.
+/// state as the quasi-static solver, like `rk4_fsal`, and the same mean cage speed as it
+/// within the brief's 0.01 %, under the paper's model. Under the preset's rheology law a
+/// 0.1 s run's mean cage speed is not known to 0.01 %: a 1e-8 change of the axial load
+/// moves it by 5e-5 and the integrators' answers spread over 3e-4, at 1e-7 as at 1e-5
+/// (docs/lab/benchmarks.md, "The default law's runs scatter"); the methods are compared
+/// under that law at 2000 rpm below, where its runs do not scatter.
 #[test]
 fn other_integrators_agree_with_quasi_static_and_the_default() {
-    let reference = run(&constant_speed(0.1, 1e-5));
+    let reference = run(&paper_model(constant_speed(0.1, 1e-5)));
     for (integrator, tol) in [
         (Integrator::Rk4Adaptive, 1e-6),
         (Integrator::RosenbrockW, 1e-5),
     ] {
-        let mut scene = constant_speed(0.1, tol);
+        let mut scene = paper_model(constant_speed(0.1, tol));
         scene.solver.integrator = integrator;
         let r = run(&scene);
         agrees_with_quasi_static(&scene, &r);
@@ -197,7 +213,9 @@ fn reduced_fidelity_levels_agree_with_quasi_static() {
 /// the 0.5 s Table-1 ramp concentric_cage exceeds 10 % of band RMS: docs/lab/benchmarks.md.)
 #[test]
 fn reduced_fidelity_levels_keep_the_full_models_cage_speed_and_signal() {
-    let mut full = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+    // the paper's model, where the figures above were measured; the preset's rheology law's
+    // are in docs/lab/benchmarks.md ("The default law's runs scatter")
+    let mut full = paper_model(fault_case_scene("h7005c", FaultCase::Compound).unwrap());
     full.operating.speed.initial_rpm = 10_000.0;
     full.operating.speed.ramp_time = 0.0;
     full.solver.duration = 0.15;
@@ -244,9 +262,8 @@ fn evenly_loaded_cage_runs_quiet() {
 /// 2026-11-27 from the balanced start, e = 0.11 over 0.3 s, no orbit (docs/lab/history.md).
 #[test]
 fn drag_and_rolling_resistance_brake_the_cage() {
-    // the paper's curve named, not taken from the preset: the measurements below are its
-    let mut paper = constant_speed(0.06, 1e-5);
-    paper.lubricant.traction = Traction::PAPER_CURVE;
+    // the paper's model named, not taken from the preset: the measurements below are its
+    let paper = paper_model(constant_speed(0.06, 1e-5));
     let mut full = paper.clone();
     full.lubricant.cavity_drag = CavityDrag::OilAir { oil_fraction: 0.01 };
     full.lubricant.rolling_resistance = RollingResistanceModel::Houpert { factor: 1.0 };
@@ -407,10 +424,14 @@ fn agrees_with_quasi_static(scene: &Scene, r: &SimResult) {
 }
 
 /// Relative changes of the mean cage speed and of the pedestal Z band RMS (< 20 kHz, over the
-/// steady window) when the Table-1 scene of `case` is run at the default solver settings
-/// (rk4_fsal, rtol = atol = 1e-5) and 10 times tighter.
+/// steady window) when the Table-1 scene of `case` is run under the paper's model at the
+/// default solver settings (rk4_fsal, rtol = atol = 1e-5) and 10 times tighter. Under the
+/// preset's rheology law these runs scatter beyond both limits below whatever the tolerance
+/// (a 1e-8 change of the axial load moves the inner fault's band RMS by 2 %), so a single
+/// pair of runs does not measure the tolerance there (docs/lab/benchmarks.md, "The default
+/// law's runs scatter").
 fn tolerance_changes(case: FaultCase) -> (f64, f64) {
-    let default = fault_case_scene("h7005c", case).unwrap();
+    let default = paper_model(fault_case_scene("h7005c", case).unwrap());
     let mut tight = default.clone();
     tight.solver.rtol = default.solver.rtol / 10.0;
     tight.solver.atol = default.solver.atol / 10.0;

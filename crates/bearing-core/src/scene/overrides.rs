@@ -28,28 +28,26 @@ mod tests {
         apply_overrides(
             &mut v,
             &json!({"lubricant": {
-                "traction": {"model": "rheology"},
-                "rolling_resistance": {"model": "houpert"},
+                "traction": {"model": "abcd"},
+                "rolling_resistance": {"model": "none"},
                 "density": 860.0
             }}),
         );
         let s: Scene = serde_json::from_value(v).expect("the patched scene parses");
-        assert_eq!(s.lubricant.traction, Traction::RHEOLOGY);
-        assert_eq!(
-            s.lubricant.rolling_resistance,
-            RollingResistanceModel::Houpert { factor: 1.0 }
-        );
+        // the curve's own coefficients, not the rheology law's fields merged into it
+        assert_eq!(s.lubricant.traction, Traction::PAPER_CURVE);
+        assert_eq!(s.lubricant.rolling_resistance, RollingResistanceModel::None);
         assert_eq!(s.lubricant.density, 860.0);
-        // with it the law's own traction samples (4 cell means; the curve's preset takes
-        // 10), unless the overrides name a count
-        assert_eq!(preset_scene("h7005c").unwrap().traction_strips(), 10);
+        // with it the law's own traction samples (10 points; the preset's rheology law takes
+        // 4 cell means), unless the overrides name a count
+        assert_eq!(preset_scene("h7005c").unwrap().traction_strips(), 4);
         assert_eq!(s.solver.traction_strips, None);
-        assert_eq!(s.traction_strips(), 4);
+        assert_eq!(s.traction_strips(), 10);
         let mut named = s.clone();
-        named.solver.traction_strips = Some(10);
-        assert_eq!(named.traction_strips(), 10);
-        // 4 was measured for Gauss nodes only: equal strips keep 10
-        let mut equal = s.clone();
+        named.solver.traction_strips = Some(4);
+        assert_eq!(named.traction_strips(), 4);
+        // 4 was measured for the rheology law's Gauss nodes only: its equal strips keep 10
+        let mut equal = preset_scene("h7005c").unwrap();
         equal.solver.traction_quadrature = crate::scene::TractionQuadrature::EqualStrips;
         assert_eq!(equal.traction_strips(), 10);
         // the rest of the preset is untouched
@@ -100,11 +98,18 @@ mod tests {
     #[test]
     fn a_field_of_the_presets_own_law_still_merges() {
         let mut v = serde_json::to_value(preset_scene("h7005c").unwrap()).unwrap();
-        apply_overrides(&mut v, &json!({"lubricant": {"traction": {"d": 0.03}}}));
+        apply_overrides(
+            &mut v,
+            &json!({"lubricant": {"traction": {"limiting_coefficient": 0.06}}}),
+        );
         let s: Scene = serde_json::from_value(v).unwrap();
-        let Traction::Abcd { a, d, .. } = s.lubricant.traction else {
-            panic!("still the curve: {:?}", s.lubricant.traction)
+        let Traction::Rheology {
+            limiting_coefficient,
+            roelands_z,
+        } = s.lubricant.traction
+        else {
+            panic!("still the rheology law: {:?}", s.lubricant.traction)
         };
-        assert_eq!((a, d), (-0.036, 0.03));
+        assert_eq!((limiting_coefficient, roelands_z), (0.06, None));
     }
 }

@@ -196,11 +196,12 @@ fn h7005c() -> Scene {
             // base oils range 840 (PAO) to 900 kg/m^3 (naphthenic; Höglund 1999 as given by
             // Arana et al. 2019, Table 2). docs/lab/research/issue-33-traction-sources.md.
             dynamic_viscosity: 5.1e-6 * 870.0,
-            // The paper's eq. 15 curve with the ADORE sample deck's coefficients. The law that
-            // reproduces the paper's cage lag is `rheology` (Traction::RHEOLOGY); it becomes
-            // the default once the integration makes it affordable (docs/reference/model.md,
-            // "Traction laws").
-            traction: Traction::PAPER_CURVE,
+            // The rheology law (Roelands at each strip's Hertz pressure, Eyring thinning, a
+            // limiting shear stress proportional to pressure, the elastic film): the law that
+            // gives the paper's cage lag (BPFO below eq. 37, BPFI above), with `auto_slip`
+            // below taking its stiff slip relaxation (docs/reference/model.md, "Traction
+            // laws"). The paper's eq. 15 curve is `Traction::PAPER_CURVE` (`abcd`).
+            traction: Traction::RHEOLOGY,
             critical_film_ball_cage: 0.8e-6,
             critical_film_cage_land: 3.0e-6,
             cage_friction: 0.08,
@@ -216,7 +217,7 @@ fn h7005c() -> Scene {
             // spindle bearing (docs/reference/model.md). Opt in with `oil_air` (oil fraction
             // 0.01 for a channelled grease) and `houpert` (factor 1, fully flooded).
             cavity_drag: CavityDrag::None,
-            rolling_resistance: RollingResistanceModel::None,
+            rolling_resistance: RollingResistanceModel::Houpert { factor: 1.0 },
         },
         operating: Operating {
             speed: SpeedProfile {
@@ -245,6 +246,7 @@ fn h7005c() -> Scene {
         faults: vec![],
         solver: Solver {
             duration: 0.5,
+            integrator: Integrator::AutoSlip,
             ..Solver::default()
         },
         outputs: Outputs::default(),

@@ -62,18 +62,22 @@ fn value<T: Serialize>(part: &T) -> Value {
     serde_json::to_value(part).expect("scene parts serialize")
 }
 
-/// Every named variant: the paper's model (its eq. 15 curve), the rheology law (the
-/// preset's) with and without drag and rolling resistance and with each uncertain
-/// coefficient at the ends of its read range, each added term alone, both together, a
-/// richer oil-air mixture, and the earlier film law's variants (to reproduce its study).
+/// Every named variant: the paper's model (its eq. 15 curve), the rheology law alone, with
+/// rolling resistance (the preset's physics since 2026-11-29) and with drag as well, and
+/// with each uncertain coefficient at the ends of its read range, the curve with each added
+/// term alone, both together and a richer oil-air mixture, and the earlier film law's
+/// variants (to reproduce its study). Every variant names its traction law, so what it
+/// runs does not follow the preset's.
 pub fn lubricant_variants() -> Vec<LubricantVariant> {
     let drag = |x| CavityDrag::OilAir { oil_fraction: x };
     let houpert = RollingResistanceModel::Houpert { factor: 1.0 };
+    // the paper's curve with added terms, as these variants were run before the preset's
+    // law changed
     let v = |name: &str, cavity_drag, rolling_resistance| LubricantVariant {
         name: name.into(),
         cavity_drag,
         rolling_resistance,
-        traction: None,
+        traction: Some(Traction::PAPER_CURVE),
     };
     // a traction law, alone or with drag (oil fraction 0.01) and rolling resistance
     let law = |name: &str, traction, with_drag: bool| {
@@ -106,10 +110,17 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
     };
     vec![
         LubricantVariant::paper(),
-        // the preset's law, and each uncertain coefficient at the ends of its read range
+        // the preset's law alone, with rolling resistance (the preset's physics) and with
+        // drag too, and each uncertain coefficient at the ends of its read range
         // (Lambda: PAO 0.035 to naphthenic 0.053; Z: 0.60 mineral typical to 0.81, the
         // second spindle oil of Stachowiak & Batchelor's Table 2.3)
         rheology("rheology", 0.047, None, false),
+        LubricantVariant {
+            name: "rheology+rolling".into(),
+            cavity_drag: CavityDrag::None,
+            rolling_resistance: houpert,
+            traction: Some(Traction::RHEOLOGY),
+        },
         rheology("rheology+drag+rolling", 0.047, None, true),
         rheology("rheology-L0.035", 0.035, None, false),
         rheology("rheology-L0.053", 0.053, None, false),
