@@ -88,6 +88,8 @@ def submit_form(page, base, duration, **fields):
     for name, value in fields.items():
         page.fill(f'[name="{name}"]', str(value))
     expect(page.locator("#patch")).to_contain_text(f'"duration": {duration}')
+    # the form starts from the preset's integrator, not the first option it lists
+    expect(page.locator("#patch")).to_contain_text('"integrator": "auto_slip"')
     page.click("button[type=submit]")
 
 
