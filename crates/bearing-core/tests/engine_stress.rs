@@ -74,6 +74,7 @@ stress_tests!(
     table1_steady,
     near_zero_speed,
     limit_speed,
+    limit_speed_paper_curve,
     limit_speed_auto,
     above_speed_limit,
     near_zero_load,
