@@ -52,8 +52,9 @@ pub struct StudyArgs {
     #[arg(long)]
     pub duration: Option<f64>,
     /// Lubricant variant for `paper-trends` and `table2` (docs/lab/paper-trends.md): paper,
-    /// drag, rolling, drag+rolling, drag5+rolling, film, film+drag+rolling, film-G0.3, ...
-    /// Default: the base scene's lubricant.
+    /// rheology, rheology+rolling (the preset's), rheology+drag+rolling, rheology-L0.035, ...,
+    /// drag, rolling, drag+rolling, drag5+rolling (on the paper's curve), film,
+    /// film+drag+rolling, film-G0.3, ... Default: the base scene's lubricant.
     #[arg(long)]
     pub lubricant: Option<String>,
     /// Lubricant variants for `sensitivity` (default: all).

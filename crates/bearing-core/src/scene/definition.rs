@@ -201,8 +201,9 @@ impl Default for RollingResistanceModel {
 #[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Traction {
     /// The paper's eq. 15, `mu(s) = (a + b s) exp(-c s) + d`; a, d in -, b in s/m, c in
-    /// s/m. The same at every load and speed. A coefficient left out takes the ADORE sample
-    /// deck's ([`Traction::PAPER_CURVE`]), so `{"model": "abcd"}` is the paper's curve.
+    /// s/m. The same at every load and speed. A coefficient left out (or set to null in an
+    /// override) takes the ADORE sample deck's value (a -0.036, b 0.1018, c 1.547, d 0.036),
+    /// so `{"model": "abcd"}` is the paper's curve.
     Abcd {
         #[serde(default = "paper_curve_a")]
         a: f64,

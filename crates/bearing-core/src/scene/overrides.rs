@@ -1,8 +1,8 @@
 //! A preset's overrides: a JSON merge patch (RFC 7396) over the preset's scene, in which a
 //! lubricant model named anew replaces the preset's whole
 //! ([`crate::json_doc::merge_patch_tagged`]): `{"lubricant": {"traction": {"model":
-//! "rheology"}}}` selects the rheology law with its defaults, where a plain merge would
-//! keep the curve's `a`..`d` and fail as unknown fields of the new law.
+//! "abcd"}}}` selects the paper's curve with its defaults, where a plain merge would keep the
+//! preset's rheology law's fields and fail as unknown fields of the curve.
 
 use crate::json_doc::merge_patch_tagged;
 use serde_json::Value;

@@ -213,9 +213,12 @@ fn h7005c() -> Scene {
             // Table 2.3, "spindle oil" 16e-9 at 60 deg C and 13e-9 1/Pa at 100 deg C; with
             // the viscosity above it gives Roelands' Z = 0.69 (read range 0.68-0.81).
             pressure_viscosity: 1.5e-8,
-            // The paper's model has neither, and no read source sizes them for a greased
-            // spindle bearing (docs/reference/model.md). Opt in with `oil_air` (oil fraction
-            // 0.01 for a channelled grease) and `houpert` (factor 1, fully flooded).
+            // No read source sizes the cavity drag for a greased spindle bearing: opt in with
+            // `oil_air` (oil fraction 0.01 for a channelled grease). The rolling resistance is
+            // the rolling force of the same fully flooded, isothermal film the traction law
+            // shears (Biboulet & Houpert 2010, Part 2, eq. 32; factor 1, fully flooded), and
+            // it removes the law's slow first cage regime; the paper's model has neither
+            // (docs/reference/model.md, "EHL rolling resistance").
             cavity_drag: CavityDrag::None,
             rolling_resistance: RollingResistanceModel::Houpert { factor: 1.0 },
         },
@@ -246,6 +249,9 @@ fn h7005c() -> Scene {
         faults: vec![],
         solver: Solver {
             duration: 0.5,
+            // the law's slip relaxes in ~1e-7 s: `auto_slip` takes it implicitly where that
+            // is cheaper (low speed) and the contact modes explicitly, undamped
+            // (docs/reference/model.md, "Solver and integrators")
             integrator: Integrator::AutoSlip,
             ..Solver::default()
         },
