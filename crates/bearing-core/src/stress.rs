@@ -59,9 +59,10 @@ const SAME_COST: f64 = 4.0;
 
 /// With the cage whirling on its land film (eccentricity ~0.95 at 60000 rpm), `rk4_fsal`'s
 /// step under the paper's model falls to ~1e-8 s: measured 10x at 20 ms and 180-215x at
-/// 0.1 s as the whirl builds up (against the paper's model's own reference, 2026-11-24). The
-/// factor states the pathology; `limit_speed_auto` is the remedy, and the preset's
-/// `auto_slip` does not meet it (`limit_speed`).
+/// 0.1 s as the whirl builds up (against the paper's model's own reference, 2026-11-24; 6.1x
+/// and 174x against today's, 2026-11-29). The factor states the pathology;
+/// `limit_speed_auto` is the remedy, and under the preset's physics `auto_slip`'s step does
+/// not collapse there (`limit_speed`, 0.89x).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its
