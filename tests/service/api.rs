@@ -277,7 +277,7 @@ async fn every_bad_input_gets_its_status_and_a_problem() {
 
 /// The quasi-static answer carries the pocket-cycle cage speed only when asked, and then the
 /// engine's own. Under the paper's model, whose cycle takes about 0.5 s at 10000 rpm and
-/// whose torque falls steadily (under the preset's rheology law it takes about 7 s and its
+/// whose torque falls steadily (under the preset's rheology law it takes about 5 s and its
 /// torque is a staircase: docs/reference/model.md, "Cage speed by the pocket cycle").
 #[tokio::test]
 async fn quasi_static_gives_the_pocket_cycle_when_asked() {

@@ -463,7 +463,7 @@ fn tolerance_changes(case: FaultCase) -> (f64, f64) {
 // passes). The brief's limits are 0.01 % on the mean cage speed and 1 % on the band RMS.
 // Measured 2026-11-21 with the former default (rk4_adaptive, 1e-6 against 1e-7): cage speed
 // changes of 3e-7 to 6e-7, RMS changes of 0.07 % (inner), 0.41 % (outer) and 0.28 %
-// (compound); the current default's figures are in docs/lab/benchmarks.md.
+// (compound); `rk4_fsal`'s (the paper's model's default since) are in docs/lab/benchmarks.md.
 
 #[test]
 fn tighter_tolerance_changes_little_inner_fault() {
