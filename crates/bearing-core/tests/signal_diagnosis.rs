@@ -42,6 +42,16 @@ fn paper_model(mut s: Scene) -> Scene {
     s
 }
 
+/// The fault types a scene of `case` must read, in [`FaultType::ALL`] order.
+fn truth(case: FaultCase) -> Vec<FaultType> {
+    match case {
+        FaultCase::None => vec![],
+        FaultCase::Inner => vec![FaultType::InnerRace],
+        FaultCase::Outer => vec![FaultType::OuterRace],
+        FaultCase::Compound => vec![FaultType::OuterRace, FaultType::InnerRace],
+    }
+}
+
 struct Diagnosis {
     faults: Vec<FaultType>,
     verdict: Verdict,
@@ -82,11 +92,8 @@ fn diagnose(scene: &Scene) -> Diagnosis {
 /// orders, the compound run read the inner race only (outer p 2.1e-2).
 #[test]
 fn short_constant_speed_runs_read_their_fault() {
-    for (case, want) in [
-        (FaultCase::Inner, vec![FaultType::InnerRace]),
-        (FaultCase::Outer, vec![FaultType::OuterRace]),
-        (FaultCase::None, vec![]),
-    ] {
+    for case in [FaultCase::Inner, FaultCase::Outer, FaultCase::None] {
+        let want = truth(case);
         let d = diagnose(&constant_speed(case, 0.1));
         assert_eq!(d.faults, want, "{case:?}: {}", d.verdict.summary);
         assert!(!d.order_tracked, "constant speed needs no order tracking");
@@ -102,7 +109,7 @@ fn short_constant_speed_runs_read_their_fault() {
     let d = diagnose(&constant_speed(FaultCase::Compound, 0.1));
     assert_eq!(
         d.faults,
-        vec![FaultType::OuterRace, FaultType::InnerRace],
+        truth(FaultCase::Compound),
         "{}",
         d.verdict.summary
     );
@@ -113,9 +120,9 @@ fn short_constant_speed_runs_read_their_fault() {
 #[test]
 fn table_1_scenes_read_their_faults() {
     let d = diagnose(&fault_case_scene("h7005c", FaultCase::Compound).unwrap());
-    assert_eq!(d.faults, vec![FaultType::OuterRace, FaultType::InnerRace]);
+    assert_eq!(d.faults, truth(FaultCase::Compound));
     let d = diagnose(&fault_case_scene("h7005c", FaultCase::None).unwrap());
-    assert_eq!(d.faults, vec![], "{}", d.verdict.summary);
+    assert_eq!(d.faults, truth(FaultCase::None), "{}", d.verdict.summary);
 }
 
 /// The compound fault run up from 1000 to 10000 rpm over the whole 0.2 s of `s`.
@@ -146,7 +153,7 @@ fn a_run_up_is_order_tracked_and_says_so() {
     // way to the next harmonics
     assert_eq!(
         d.faults,
-        vec![FaultType::OuterRace, FaultType::InnerRace],
+        truth(FaultCase::Compound),
         "{}",
         d.verdict.summary
     );
@@ -158,24 +165,26 @@ fn a_run_up_is_order_tracked_and_says_so() {
 /// 1.2e-4, the run-up outer 1.4e-4.
 #[test]
 fn under_the_papers_model_every_scene_but_one_reads_its_faults() {
-    for (case, want) in [
-        (FaultCase::Inner, vec![FaultType::InnerRace]),
-        (FaultCase::Outer, vec![FaultType::OuterRace]),
-        (FaultCase::None, vec![]),
-        (
-            FaultCase::Compound,
-            vec![FaultType::OuterRace, FaultType::InnerRace],
-        ),
+    for case in [
+        FaultCase::Inner,
+        FaultCase::Outer,
+        FaultCase::None,
+        FaultCase::Compound,
     ] {
         let d = diagnose(&paper_model(constant_speed(case, 0.1)));
-        assert_eq!(d.faults, want, "0.1 s {case:?}: {}", d.verdict.summary);
+        assert_eq!(
+            d.faults,
+            truth(case),
+            "0.1 s {case:?}: {}",
+            d.verdict.summary
+        );
     }
     let d = diagnose(&paper_model(
         fault_case_scene("h7005c", FaultCase::Compound).unwrap(),
     ));
     assert_eq!(
         d.faults,
-        vec![FaultType::OuterRace, FaultType::InnerRace],
+        truth(FaultCase::Compound),
         "Table-1 compound: {}",
         d.verdict.summary
     );
@@ -188,7 +197,7 @@ fn under_the_papers_model_every_scene_but_one_reads_its_faults() {
     assert!(d.order_tracked);
     assert_eq!(
         d.faults,
-        vec![FaultType::OuterRace, FaultType::InnerRace],
+        truth(FaultCase::Compound),
         "run-up: {}",
         d.verdict.summary
     );
