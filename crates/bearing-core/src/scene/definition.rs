@@ -261,26 +261,21 @@ pub enum Traction {
     },
 }
 
-// The ADORE sample deck's eq. 15 coefficients (Traction::PAPER_CURVE), each a default.
-const PAPER_CURVE_A: f64 = -0.036;
-const PAPER_CURVE_B: f64 = 0.1018;
-const PAPER_CURVE_C: f64 = 1.547;
-const PAPER_CURVE_D: f64 = 0.036;
-
-fn paper_curve_a() -> f64 {
-    PAPER_CURVE_A
+// The ADORE sample deck's eq. 15 coefficients: `abcd`'s defaults and Traction::PAPER_CURVE.
+const fn paper_curve_a() -> f64 {
+    -0.036
 }
 
-fn paper_curve_b() -> f64 {
-    PAPER_CURVE_B
+const fn paper_curve_b() -> f64 {
+    0.1018
 }
 
-fn paper_curve_c() -> f64 {
-    PAPER_CURVE_C
+const fn paper_curve_c() -> f64 {
+    1.547
 }
 
-fn paper_curve_d() -> f64 {
-    PAPER_CURVE_D
+const fn paper_curve_d() -> f64 {
+    0.036
 }
 
 fn default_rheology_limiting() -> f64 {
@@ -567,10 +562,10 @@ impl Traction {
     /// zero slip): `{"model": "abcd"}`. The preset's traction until 2026-11-29, when the
     /// rheology law replaced it (issue 33; docs/reference/model.md, "Traction laws").
     pub const PAPER_CURVE: Traction = Traction::Abcd {
-        a: PAPER_CURVE_A,
-        b: PAPER_CURVE_B,
-        c: PAPER_CURVE_C,
-        d: PAPER_CURVE_D,
+        a: paper_curve_a(),
+        b: paper_curve_b(),
+        c: paper_curve_c(),
+        d: paper_curve_d(),
     };
 
     /// The rheology law with its defaults: the preset's traction since 2026-11-29.

@@ -13,19 +13,16 @@ pub struct LubricantVariant {
     pub name: String,
     pub cavity_drag: CavityDrag,
     pub rolling_resistance: RollingResistanceModel,
-    /// `None` keeps the base scene's traction law.
-    pub traction: Option<Traction>,
+    /// Named by every variant, so a point runs the same law whatever the base's.
+    pub traction: Traction,
 }
 
 impl LubricantVariant {
-    /// Assign the variant's parts over a scene's lubricant (its traction law only when the
-    /// variant names one).
+    /// Assign the variant's parts over a scene's lubricant.
     pub fn apply_to(&self, lubricant: &mut Lubricant) {
         lubricant.cavity_drag = self.cavity_drag;
         lubricant.rolling_resistance = self.rolling_resistance;
-        if let Some(t) = self.traction {
-            lubricant.traction = t;
-        }
+        lubricant.traction = self.traction;
     }
 
     /// The seed paper's lubricant: no drag, no rolling resistance, the eq. 15 curve (the
@@ -36,14 +33,14 @@ impl LubricantVariant {
             name: "paper".into(),
             cavity_drag: CavityDrag::None,
             rolling_resistance: RollingResistanceModel::None,
-            traction: Some(Traction::PAPER_CURVE),
+            traction: Traction::PAPER_CURVE,
         }
     }
 
     /// The scene fields the variant sets, as (JSON pointer, value): whole members, so a
     /// traction law replaces the base's whatever its model.
     pub fn sets(&self) -> Vec<(String, Value)> {
-        let mut sets = vec![
+        vec![
             (
                 "/lubricant/cavity_drag".to_string(),
                 value(&self.cavity_drag),
@@ -52,11 +49,8 @@ impl LubricantVariant {
                 "/lubricant/rolling_resistance".to_string(),
                 value(&self.rolling_resistance),
             ),
-        ];
-        if let Some(t) = &self.traction {
-            sets.push(("/lubricant/traction".to_string(), value(t)));
-        }
-        sets
+            ("/lubricant/traction".to_string(), value(&self.traction)),
+        ]
     }
 }
 
@@ -79,7 +73,7 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
         name: name.into(),
         cavity_drag,
         rolling_resistance,
-        traction: Some(Traction::PAPER_CURVE),
+        traction: Traction::PAPER_CURVE,
     };
     // a traction law, alone or with drag (oil fraction 0.01) and rolling resistance
     let law = |name: &str, traction, with_drag: bool| {
@@ -92,7 +86,7 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
             name: name.into(),
             cavity_drag,
             rolling_resistance,
-            traction: Some(traction),
+            traction,
         }
     };
     let film = |name: &str, shear_modulus, eyring_stress, limiting_coefficient, with_drag| {
@@ -121,7 +115,7 @@ pub fn lubricant_variants() -> Vec<LubricantVariant> {
             name: "rheology+rolling".into(),
             cavity_drag: CavityDrag::None,
             rolling_resistance: houpert,
-            traction: Some(Traction::RHEOLOGY),
+            traction: Traction::RHEOLOGY,
         },
         rheology("rheology+drag+rolling", 0.047, None, true),
         rheology("rheology-L0.035", 0.035, None, false),
