@@ -1,8 +1,9 @@
 //! Exact Hertz constants against an independent computation: the curvature-difference
 //! form of the ellipticity relation (algebraically Biboulet & Houpert 2010, Part 2, eq. 43,
 //! checked numerically) with Carlson's symmetric elliptic integrals
-//! (DLMF 19.36) and a bracketing solve, where the engine uses Johnson's formulation, the
-//! arithmetic-geometric mean and a log-space bisection. Two routes, one answer.
+//! (DLMF 19.36) and a bracketing solve, where the engine uses the same relation in its
+//! `Ry/Rx` form (Biboulet & Houpert's App. 2, eq. 43), the arithmetic-geometric mean and a log-space
+//! bisection. Two routes, one answer.
 
 use bearing_core::physics::hertz::{effective_modulus, elliptic_ke, exact, hamrock_brewe};
 use std::f64::consts::PI;
@@ -61,7 +62,8 @@ fn ke(m: f64) -> (f64, f64) {
     (k, k - m / 3.0 * carlson_rd(0.0, 1.0 - m, 1.0))
 }
 
-/// Harris: F(rho) = (1/Rx - 1/Ry)/(1/Rx + 1/Ry) = ((k^2 + 1) E - 2 K) / ((k^2 - 1) E) fixes
+/// The curvature-difference form (named after Harris, whose book was not read; algebraically
+/// Biboulet & Houpert's eq. 43, checked numerically): F(rho) = (1/Rx - 1/Ry)/(1/Rx + 1/Ry) = ((k^2 + 1) E - 2 K) / ((k^2 - 1) E) fixes
 /// the ellipticity k = a/b; then a = (6 k^2 E Q / (pi S E'))^(1/3),
 /// b = (6 E Q / (pi k S E'))^(1/3), delta = K (9 S / (2 E) (Q / (pi k E'))^2)^(1/3) with
 /// S = 1/Rx + 1/Ry. Returns (K_load, a, b) for Q = 1 N.

@@ -49,7 +49,8 @@ fn pure_axial_load_matches_closed_form_with(hertz: HertzModel) {
     scene.operating.axial_load = 200.0;
     let m = Model::new(&scene.validated().unwrap());
     let sol = solve(&scene.validated().unwrap(), 0.0).unwrap();
-    // Closed form (Harris): each of Z balls carries Q = Fa / (Z sin a) through inner and
+    // Closed form (pure axial load, the Jones-Harris equilibrium of model.md's quasi-static
+    // section reduced to one contact angle): each of Z balls carries Q = Fa / (Z sin a) through inner and
     // outer contacts in series, Q = Kn (B D)^1.5 (cos a0 / cos a - 1)^1.5, with
     // Kn = (Ki^-2/3 + Ko^-2/3)^-3/2 and B D the distance between curvature centres.
     let z = scene.bearing.ball_count as f64;

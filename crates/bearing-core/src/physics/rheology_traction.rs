@@ -5,18 +5,19 @@
 //! Each strip of eq. 13 is a film at its own pressure, the strip's mean Hertz pressure along
 //! the rolling direction `p = (pi/4) p0 sqrt(1 - xi^2)`. On it:
 //! - viscosity from Roelands' pressure-viscosity relation (as given by Stachowiak &
-//!   Batchelor, Engineering Tribology, sec. 2.6, and Nguyen-Schäfer 2019 sec. 1.8.1 after
-//!   Hamrock, Schmid & Jacobson 2004): `ln eta = ln eta0 + (ln eta0 + 9.67)((1 + p/p_R)^Z - 1)`;
+//!   Batchelor, Engineering Tribology, ch. 2, p. 21, and Nguyen-Schäfer 2019 sec. 1.8.1): `ln eta = ln eta0 + (ln eta0 + 9.67)((1 + p/p_R)^Z - 1)`;
 //! - the Eyring stress from the local pressure-viscosity coefficient,
-//!   `tau_E = 2 Lambda / alpha(p)` (Bair & Winer, as given by Arana et al. 2019);
+//!   `tau_E = 2 Lambda / alpha(p)` (Arana et al. 2019, the paragraph before eq. 8, which gives
+//!   it as Bair & Winer's);
 //! - the mean shear stress of Arana, Larrañaga & Ulacia (Proc IMechE J 233, 2019), eq. 13,
 //!   isothermal (`Phi_T = 1`): `mu = min((tau_E/p) asinh(eta s / (tau_E h_c)), Lambda)`,
 //!   the limiting shear stress `Lambda p` of Höglund (1999, as given by Arana, Table 2);
 //! - `h_c` the Hamrock-Dowson central film (Arana eq. 19) with the reciprocal asymptotic
-//!   isoviscous coefficient `alpha*` of Arana eq. 35 (after van Leeuwen 2009).
+//!   isoviscous coefficient `alpha*` of Arana eq. 35.
 //!
 //! Left out, with the measured or computed reason in model.md: the film's elastic
-//! (Maxwell) compliance (Deborah number below 0.1 at every load with Roelands viscosity)
+//! (Maxwell) compliance (Deborah number 0.1-0.3 at the loaded balls' centre strips at 10000
+//! rpm, lowering their low-slip slope by 10-30 %; negligible on the lightly loaded balls)
 //! and shear heating (below 0.2 K at the slips of a rolling ball).
 
 use super::exp::exp;

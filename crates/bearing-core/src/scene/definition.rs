@@ -126,8 +126,9 @@ pub struct Lubricant {
     /// Damping ratio of the ball-race normal contact (EHL film damping), -. Default 0.05.
     #[serde(default = "default_contact_damping_ratio")]
     pub contact_damping_ratio: f64,
-    /// Density of the lubricant (the grease's base oil), kg/m^3. Default 870, a mineral
-    /// spindle oil; with it Table 1's 5.1 mm^2/s is the preset's 4.44 mPa s.
+    /// Density of the lubricant (the grease's base oil), kg/m^3. Default 870, an assumption
+    /// within base oils' 840 (PAO) to 900 (naphthenic) (Höglund 1999 as given by Arana et al.
+    /// 2019, Table 2); with it Table 1's 5.1 mm^2/s is the preset's 4.44 mPa s.
     #[serde(default = "default_lubricant_density")]
     pub density: f64,
     /// Pressure-viscosity coefficient alpha (Barus), 1/Pa. Default 1.5e-8: mineral spindle

@@ -197,7 +197,8 @@ fn h7005c() -> Scene {
             // Arana et al. 2019, Table 2). docs/lab/research/issue-33-traction-sources.md.
             dynamic_viscosity: 5.1e-6 * 870.0,
             // The rheology law (Roelands at each strip's Hertz pressure, Eyring thinning, a
-            // limiting shear stress proportional to pressure, the elastic film): the law that
+            // limiting shear stress proportional to pressure, the Hamrock-Dowson film; the
+            // film's elastic compliance left out): the law that
             // gives the paper's cage lag (BPFO below eq. 37, BPFI above), with `auto_slip`
             // below taking its stiff slip relaxation (docs/reference/model.md, "Traction
             // laws"). The paper's eq. 15 curve is `Traction::PAPER_CURVE` (`abcd`).

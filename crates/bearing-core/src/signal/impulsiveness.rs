@@ -2,16 +2,15 @@
 //! rings the structure's resonances, so the band it excites is impulsive (kurtosis above a
 //! Gaussian's 3). A healthy, radially loaded bearing's varying compliance modulates the
 //! vibration smoothly at BPFO: a periodic, deterministic signal whose kurtosis is at or
-//! below 3 (a sine's is 1.5). That is the difference the verdict uses (Antoni, "The spectral
-//! kurtosis", MSSP 20, 2006; Randall and Antoni, "Rolling element bearing diagnostics - a
-//! tutorial", MSSP 25, 2011, sec. 3).
+//! below 3 (a sine's is 1.5). That is the difference the verdict uses; it is the premise of
+//! the spectral kurtosis (Antoni 2006, not read; docs/reference/model.md, "Verdict").
 //!
 //! The test: the sample kurtosis `K` of the band's signal (`n` samples) against the
 //! Gaussian value 3. For a stationary Gaussian sequence with autocorrelation `rho(k)` its
-//! standard deviation is `sqrt(24 / n * sum_k rho(k)^4)` (Lomnicki, "Tests for departure
-//! from normality in the case of linear stochastic processes", Metrika 4, 1961; the sum
-//! over all lags `-(n-1)..(n-1)` with the biased autocorrelation estimate, which tapers the
-//! long lags). The band is impulsive when `z = (K - 3) / sd` exceeds the one-sided normal
+//! standard deviation is `sqrt(24 / n * sum_k rho(k)^4)`, from the Gaussian fourth moments
+//! (derived in docs/reference/model.md, "Verdict"; usually attributed to Lomnicki 1961, not
+//! read), the sum over all lags `-(n-1)..(n-1)` with the biased autocorrelation estimate,
+//! which tapers the long lags. The band is impulsive when `z = (K - 3) / sd` exceeds the one-sided normal
 //! quantile at the verdict's false-alarm rate. A deterministic periodic signal has an
 //! autocorrelation that does not decay, so its `sd` is large and its `z` small: a strong
 //! smooth line is never read as impulsive, however clean the record.
