@@ -45,9 +45,9 @@ pub struct QuasiStaticSolution {
     /// Cage speed, rad/s: where the traction on the balls balances (every ball orbiting
     /// with the cage, the cage carrying no net torque; `quasi_static::cage_balance`); the
     /// epicyclic speed where no balance was found (`traction_balanced` false). A dynamic
-    /// run starts from it and settles within a few tenths of a per cent of it; under the
-    /// paper's curve `pocket_cycle` is closer (docs/reference/model.md, "Cage speed by the
-    /// pocket cycle").
+    /// run starts from it. At the paper's point a running cage settles 0.28 % above it under
+    /// the paper's curve and 0.65 % below it under the preset's rheology law; `pocket_cycle`
+    /// is closer under both (docs/reference/model.md, "Cage speed by the pocket cycle").
     pub cage_speed: f64,
     /// Whether `cage_speed` is the traction balance.
     pub traction_balanced: bool,
@@ -68,8 +68,10 @@ pub struct QuasiStaticSolution {
     pub balls: Vec<QsBall>,
     /// The cage speed by the pocket cycle, when asked for (absent otherwise): the balance
     /// with the balls' drift through their pockets' clearance, which `cage_speed`'s steady
-    /// balance leaves out; under the paper's curve within 0.11 % of the running cage, under
-    /// the rheology law not unique (docs/reference/model.md, "Cage speed by the pocket cycle").
+    /// balance leaves out. Within 0.11 % of a running cage under the paper's curve; 0.21 %
+    /// above it at the paper's point under the preset's rheology law, where the root sits
+    /// just above a step in the torque, the speed at which loaded balls begin to press their
+    /// pocket faces (docs/reference/model.md, "Cage speed by the pocket cycle").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pocket_cycle: Option<super::pocket_cycle::PocketCycle>,
 }
