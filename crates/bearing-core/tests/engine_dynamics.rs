@@ -1,7 +1,7 @@
 //! Dynamic model against the quasi-static reference and its own convergence.
 
 use bearing_core::dynamics::CageState;
-use bearing_core::quasi_static::{pocket_cycle, solve};
+use bearing_core::quasi_static::{pocket_cycle, pocket_cycle_with, solve, PocketCycleSettings};
 use bearing_core::scene::{
     fault_case_scene, preset_scene, CavityDrag, FaultCase, Fidelity, Integrator,
     RollingResistanceModel, Scene, Traction,
@@ -91,30 +91,32 @@ fn pocket_cycle_gives_the_running_cage_speed() {
 }
 
 /// Under the default physics (the rheology law with rolling resistance, `auto_slip`) at the
-/// paper's point the pocket cycle's cage speed is within issue 33's 0.3 % of a running cage,
-/// and the steady balance is not. The running cage first holds a lower regime for about
-/// 0.5 s (441.6-441.7 rad/s), so it is averaged over 0.5-1.0 s of a 1 s run. Measured
-/// 2026-11-29 (docs/reference/model.md, "Cage speed by the pocket cycle"): a 3 s run's
-/// quarter-second means 442.21-442.29 rad/s from 0.75 s on (442.15 over 0.5-0.75 s); the
-/// cycle 443.170, and within 3e-6 of that at tolerance 1e-7, with blocks of 16 or 32 orbits
-/// and from starts at 441.5, 442.26 and 444.0 rad/s; the steady balance 445.15 (+0.65 %).
+/// paper's point the pocket cycle's cage speed is within issue 33's 0.3 % of a settled running
+/// cage, and the steady balance is not. The running cage first holds a lower regime for about
+/// 0.5 s (441.6-441.7 rad/s, against which the cycle is +0.32-0.35 %), so it is averaged over
+/// 0.75-1.5 s of a 1.5 s run, after it has left that regime. Measured 2026-11-29
+/// (docs/reference/model.md, "Cage speed by the pocket cycle"): a 3 s run's quarter-second
+/// means 442.21-442.29 rad/s from 0.75 s on (442.15 over 0.5-0.75 s); the cycle 443.170
+/// (+0.21 %); the steady balance 445.15 (+0.65 %). One of the cycle's trials, next to the
+/// step in its torque, does not settle within its 64 orbits (`unsettled` 1; its torque is
+/// the last block's mean): not asserted, the convergence test below covering that choice.
 #[test]
 fn pocket_cycle_gives_the_running_cage_speed_under_the_default_physics() {
-    let mut scene = constant_speed(1.0, 1e-5);
+    let mut scene = constant_speed(1.5, 1e-5);
     scene.outputs.cage_speed = true;
     // only the cage channel is read
     scene.solver.sample_rate = 20_480.0;
     let r = run(&scene);
     let fs = r.channels.sample_rate;
     let cage = &r.channels.get("cage_speed").unwrap().data;
-    let from = ((0.5 - r.channels.start_time) * fs) as usize;
+    let from = ((0.75 - r.channels.start_time) * fs) as usize;
     let dynamic = cage[from..].iter().sum::<f64>() / (cage.len() - from) as f64;
     let valid = scene.validated().unwrap();
     let cycle = pocket_cycle(&valid, 10_000.0).unwrap();
     let steady = solve(&valid, 10_000.0).unwrap().cage_speed;
     let (e_cycle, e_steady) = (cycle.cage_speed / dynamic - 1.0, steady / dynamic - 1.0);
     eprintln!(
-        "default physics: dynamic {dynamic:.3} rad/s (0.5-1.0 s), pocket cycle {:.3} ({:+.3} %, {} orbits, {} unsettled), steady balance {steady:.3} ({:+.3} %)",
+        "default physics: dynamic {dynamic:.3} rad/s (0.75-1.5 s), pocket cycle {:.3} ({:+.3} %, {} orbits, {} unsettled), steady balance {steady:.3} ({:+.3} %)",
         cycle.cage_speed,
         100.0 * e_cycle,
         cycle.orbits,
@@ -126,6 +128,57 @@ fn pocket_cycle_gives_the_running_cage_speed_under_the_default_physics() {
         e_cycle.abs() < e_steady.abs(),
         "pocket cycle {e_cycle:+.2e}, steady balance {e_steady:+.2e}"
     );
+}
+
+/// The pocket cycle's cage speed under the default physics at the paper's point does not
+/// depend on its numerical choices: a tenth of the tolerance, blocks of 16 orbits instead of
+/// 8, and a search started at the settled running cage's 442.26 rad/s instead of the steady
+/// balance's 445.15 each move it by under 1e-5 (measured 2026-11-29: 443.1697 as committed;
+/// 443.1685, 443.1696 and 443.1695, so 3.4e-6 at most). The bound, 1e-5, is the search's own
+/// 1e-6 with room for the torque's 1e-3-of-the-drag accuracy, and 20 times below issue 33's
+/// 0.3 %. What it does not cover: choices of the model itself (where the cage sits; a single
+/// orbit's torque instead of the mean), which model.md lists with their roots.
+#[test]
+fn pocket_cycle_is_converged_in_its_numerical_choices() {
+    let valid = constant_speed(1.0, 1e-5).validated().unwrap();
+    let base = PocketCycleSettings {
+        // the tighter tolerance needs about twice the steps of the default's budget
+        step_budget: 10_000_000,
+        ..PocketCycleSettings::default()
+    };
+    let kept = pocket_cycle_with(&valid, 10_000.0, &base, &|| false)
+        .unwrap()
+        .cage_speed;
+    for (what, settings) in [
+        (
+            "tolerance 1e-7",
+            PocketCycleSettings {
+                tolerance: 1e-7,
+                ..base
+            },
+        ),
+        (
+            "blocks of 16 orbits",
+            PocketCycleSettings {
+                block_orbits: 16,
+                ..base
+            },
+        ),
+        (
+            "started at 442.26 rad/s",
+            PocketCycleSettings {
+                start: Some(442.26),
+                ..base
+            },
+        ),
+    ] {
+        let c = pocket_cycle_with(&valid, 10_000.0, &settings, &|| false)
+            .unwrap()
+            .cage_speed;
+        let e = c / kept - 1.0;
+        eprintln!("{what}: {c:.4} rad/s against {kept:.4} ({e:+.1e})");
+        assert!(e.abs() < 1e-5, "{what}: {c} against {kept}");
+    }
 }
 
 /// Cash-Karp RK4 (the former default) and the Rosenbrock-W method reach the same steady

@@ -12,6 +12,6 @@ mod solver;
 pub use cage_balance::{cage_balance, CageBalance};
 pub use error::QsError;
 pub use initial_state::initial_state;
-pub use pocket_cycle::PocketCycle;
-pub use solver::{pocket_cycle, pocket_cycle_until};
+pub use pocket_cycle::{PocketCycle, PocketCycleSettings};
+pub use solver::{pocket_cycle, pocket_cycle_until, pocket_cycle_with};
 pub use solver::{solve, solve_model, QsBall, QsState, QuasiStaticSolution};

@@ -37,11 +37,40 @@ const WT: usize = 4;
 const TORQUE: usize = 5;
 const N: usize = 6;
 
-/// Error control of the one-ball integration, relative and absolute (the latter in units of
-/// each state's natural size): against 1e-7 it moved the curve's balanced cage speed at the
-/// paper's point by 5e-8 relative (447.467071 against 447.467047 rad/s, 2026-11-28, with the
-/// pocket at the mid-plane as first built), below the search's own 1e-6, at half the steps.
-const TOLERANCE: f64 = 1e-6;
+/// How the cycle is computed. The defaults are what `tests/engine_dynamics.rs`
+/// (`pocket_cycle_is_converged_in_its_numerical_choices`) checks against tighter settings at
+/// the paper's point under the preset's physics.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PocketCycleSettings {
+    /// Error control of the one-ball integration, relative and absolute (the latter in units
+    /// of each state's natural size), -. Default 1e-6: against 1e-7 it moved the curve's
+    /// balanced cage speed at the paper's point by 5e-8 relative (2026-11-28, with the pocket
+    /// at the mid-plane as first built) and the rheology law's by 2.7e-6 (2026-11-29).
+    pub tolerance: f64,
+    /// Orbits averaged per block where the ball's orbit does not repeat within 8, -. Default 8.
+    pub block_orbits: u32,
+    /// Cage speed the search starts from, rad/s; `None` for the steady balance's (or the
+    /// epicyclic speed where that found none).
+    pub start: Option<f64>,
+    /// Accepted one-ball steps a whole search may take, -. Default 3 million: the preset's
+    /// point at 10000 rpm needs about 0.14 million under the paper's curve and 1.1 million
+    /// under the rheology law (2026-11-28), and the count grows with the orbit's period (the
+    /// time was 11 times as long at 1000 rpm under the curve; steps not counted), so at low
+    /// speed under the rheology law a search can run out and fail (not tried). It bounds
+    /// what a request waits for to tens of seconds.
+    pub step_budget: u64,
+}
+
+impl Default for PocketCycleSettings {
+    fn default() -> Self {
+        PocketCycleSettings {
+            tolerance: 1e-6,
+            block_orbits: 8,
+            start: None,
+            step_budget: 3_000_000,
+        }
+    }
+}
 
 /// The cage speed by the pocket cycle, and the torques the search met on the way.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,8 +90,8 @@ pub struct PocketCycle {
     /// Whether the torques of `torque_curve` fall as the cage speed rises (a rise within 1e-3
     /// of the land's and the windage's drag, what a trial's torque is known to, not counted).
     pub monotone: bool,
-    /// Trial cage speeds whose orbits neither repeated nor averaged out within 64 orbits
-    /// (their torque is the last block's mean), -.
+    /// Trial cage speeds whose orbits neither repeated within 8 orbits nor averaged out
+    /// within 7 blocks (64 orbits at the default block), their torque the last block's mean, -.
     pub unsettled: u32,
     /// Orbits integrated in all, -.
     pub orbits: u32,
@@ -76,6 +105,7 @@ struct OneBall<'a> {
     /// Quasi-static ball centre (axial, radial; m) at azimuths `k TAU / grid.len()`.
     grid: &'a [[f64; 2]],
     cage: f64,
+    tolerance: f64,
     /// Axial position of the cage's centre, m: the balls' mean (the pocket forces' axial
     /// parts centre a free cage on them).
     cage_axial: f64,
@@ -164,27 +194,21 @@ impl JacobianSystem for OneBall<'_> {
     }
 }
 
-/// Accepted one-ball steps a whole search may take: the preset's point at 10000 rpm needs
-/// about 0.14 million under the paper's curve and 1.1 million under the rheology law
-/// (2026-11-28), and the count grows with the orbit's period (the time was 11 times as long
-/// at 1000 rpm under the curve; steps not counted), so at low speed under the rheology law
-/// a search can run out and fail (not tried).
-/// It bounds what a request waits for to tens of seconds.
-const STEP_BUDGET: u64 = 3_000_000;
-
-/// What a search may still spend, and whether its caller has stopped waiting.
-struct Budget<'a> {
+/// How a search computes, what it may still spend, and whether its caller has stopped
+/// waiting.
+struct Search<'a> {
+    settings: &'a PocketCycleSettings,
     steps_left: u64,
     stop: &'a dyn Fn() -> bool,
 }
 
 /// The mean torque (N m) one ball puts on the cage over one orbit, from `y` (advanced to
 /// the orbit's end, its azimuth wrapped and its torque integral reset).
-fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N], budget: &mut Budget) -> Result<f64, String> {
+fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N], search: &mut Search) -> Result<f64, String> {
     let period = TAU / ob.cage;
     // the azimuth and the torque integral are measured against their scales, not their size
     let unbounded = vec![true, false, false, false, false, true];
-    let norm = ErrorNorm::new(TOLERANCE, TOLERANCE, ob.scale.to_vec(), unbounded);
+    let norm = ErrorNorm::new(ob.tolerance, ob.tolerance, ob.scale.to_vec(), unbounded);
     // the traction's and the pocket's stiffness act on the ball's speeds and azimuth; the
     // torque integral feeds nothing back
     let jac = BlockJacobian::partial(vec![0..5, 5..6], (0..5).map(|c| vec![c]).collect());
@@ -197,10 +221,13 @@ fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N], budget: &mut Budget) -> Resu
     let mut solver = Solver::new(ob, Rosenbrock::new(N, norm, jac), y.to_vec(), limits);
     while !solver.finished() {
         solver.step(ob).map_err(|e| e.to_string())?;
-        budget.steps_left = budget.steps_left.checked_sub(1).ok_or_else(|| {
-            format!("no settled cycle within {STEP_BUDGET} integration steps of the ball")
+        search.steps_left = search.steps_left.checked_sub(1).ok_or_else(|| {
+            format!(
+                "no settled cycle within {} integration steps of the ball",
+                search.settings.step_budget
+            )
         })?;
-        if budget.steps_left.is_multiple_of(1024) && (budget.stop)() {
+        if search.steps_left.is_multiple_of(1024) && (search.stop)() {
             return Err("stopped".into());
         }
     }
@@ -229,7 +256,7 @@ fn net_torque(
     grid: &[[f64; 2]],
     cage: f64,
     y: &mut [f64; N],
-    budget: &mut Budget,
+    search: &mut Search,
 ) -> Result<(f64, u32, bool), String> {
     let w_scale = inner.spin.abs().max(1.0) * 3.0;
     let mut ob = OneBall {
@@ -238,6 +265,7 @@ fn net_torque(
         outer: *outer,
         grid,
         cage,
+        tolerance: search.settings.tolerance,
         cage_axial: grid.iter().map(|p| p[0]).sum::<f64>() / grid.len() as f64,
         scale: [1e-3, cage.abs().max(1.0), w_scale, w_scale, w_scale, 1e-6],
     };
@@ -245,27 +273,28 @@ fn net_torque(
     let z = m.z as f64;
     // a periodic orbit: successive orbits' means agree to 1e-4 of the drag per ball (or of
     // the first orbit's torque where the scene has no drag)
-    let first = orbit_torque(&mut ob, y, budget)?;
+    let first = orbit_torque(&mut ob, y, search)?;
     let tol = 1e-4 * resist.abs().max(z * first.abs()).max(1e-12) / z;
     let mut last = first;
     for k in 2..=8 {
-        let t = orbit_torque(&mut ob, y, budget)?;
+        let t = orbit_torque(&mut ob, y, search)?;
         if (t - last).abs() <= tol {
             return Ok((z * t + resist, k, true));
         }
         last = t;
     }
     // none within 8 orbits (the ball meets a face on some orbits and not on others): the
-    // mean over blocks of 8 orbits, until two blocks agree to 1e-3 of the drag
+    // mean over blocks of orbits, until two blocks agree to 1e-3 of the drag
     let mut last_block = f64::NAN;
     let mut orbits = 8;
+    let block = search.settings.block_orbits.max(1);
     for _ in 0..7 {
         let mut sum = 0.0;
-        for _ in 0..8 {
-            sum += orbit_torque(&mut ob, y, budget)?;
+        for _ in 0..block {
+            sum += orbit_torque(&mut ob, y, search)?;
         }
-        orbits += 8;
-        let mean = sum / 8.0;
+        orbits += block;
+        let mean = sum / f64::from(block);
         if (mean - last_block).abs() <= 10.0 * tol {
             return Ok((z * mean + resist, orbits, true));
         }
@@ -275,10 +304,11 @@ fn net_torque(
 }
 
 /// The cage speed where [`net_torque`] vanishes, from the start `cage0` (rad/s; the steady
-/// balance's, or the epicyclic speed where that found none)
+/// balance's, or the epicyclic speed where that found none, unless `settings` name one)
 /// and ball spin `w0` (azimuth frame, rad/s) at azimuth 0: bracketed in steps of 0.2 % of
 /// `cage0`, then by the Illinois method to 1e-6 of it; `stop` is asked before each trial
-/// and every 1024 steps, and the search gives up after [`STEP_BUDGET`] steps.
+/// and every 1024 steps, and the search gives up after the settings' step budget.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn pocket_cycle(
     m: &Model,
     inner: &RingMotion,
@@ -286,22 +316,25 @@ pub(super) fn pocket_cycle(
     grid: &[[f64; 2]],
     cage0: f64,
     w0: [f64; 3],
+    settings: &PocketCycleSettings,
     stop: &dyn Fn() -> bool,
 ) -> Result<PocketCycle, String> {
+    let cage0 = settings.start.unwrap_or(cage0);
     // centred in its pocket at azimuth 0, orbiting with the cage
     let mut y = [0.0, cage0, w0[0], w0[1], w0[2], 0.0];
     let mut curve: Vec<[f64; 2]> = Vec::new();
     let mut orbits = 0;
     let mut unsettled = 0;
-    let mut budget = Budget {
-        steps_left: STEP_BUDGET,
+    let mut search = Search {
+        settings,
+        steps_left: settings.step_budget,
         stop,
     };
     let mut eval = |c: f64, y: &mut [f64; N]| -> Result<f64, String> {
         if stop() {
             return Err("stopped".into());
         }
-        let (t, k, settled) = net_torque(m, inner, outer, grid, c, y, &mut budget)?;
+        let (t, k, settled) = net_torque(m, inner, outer, grid, c, y, &mut search)?;
         if !t.is_finite() {
             return Err(format!("the mean torque at {c} rad/s is not finite"));
         }

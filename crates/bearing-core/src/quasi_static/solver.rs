@@ -3,6 +3,7 @@
 
 use super::cage_balance::{cage_balance, CageBalance};
 use super::error::QsError;
+use super::pocket_cycle::PocketCycleSettings;
 use crate::model::Model;
 use crate::physics::frames::{e_r, tilt_matrix, to_azimuth};
 use crate::physics::hertz;
@@ -620,6 +621,16 @@ pub fn pocket_cycle_until(
     shaft_rpm: f64,
     stop: &dyn Fn() -> bool,
 ) -> Result<super::pocket_cycle::PocketCycle, QsError> {
+    pocket_cycle_with(scene, shaft_rpm, &PocketCycleSettings::default(), stop)
+}
+
+/// [`pocket_cycle_until`] with the cycle's numerical settings given.
+pub fn pocket_cycle_with(
+    scene: &ValidScene,
+    shaft_rpm: f64,
+    settings: &PocketCycleSettings,
+    stop: &dyn Fn() -> bool,
+) -> Result<super::pocket_cycle::PocketCycle, QsError> {
     if !(shaft_rpm.is_finite() && shaft_rpm > 0.0) {
         return Err(QsError::InvalidSpeed { rpm: shaft_rpm });
     }
@@ -643,6 +654,6 @@ pub fn pocket_cycle_until(
             (st.epicyclic_cage_speed, [k[1], k[2], 0.0])
         }
     };
-    super::pocket_cycle::pocket_cycle(&m, &inner, &outer_ring(), &grid, cage0, w0, stop)
+    super::pocket_cycle::pocket_cycle(&m, &inner, &outer_ring(), &grid, cage0, w0, settings, stop)
         .map_err(|reason| QsError::PocketCycle { reason })
 }

@@ -212,7 +212,7 @@ fn h7005c() -> Scene {
             density: 870.0,
             // Pressure-viscosity coefficient of a light spindle oil: Stachowiak & Batchelor,
             // Table 2.3, "spindle oil" 16e-9 at 60 deg C and 13e-9 1/Pa at 100 deg C; with
-            // the viscosity above it gives Roelands' Z = 0.69 (read range 0.68-0.81).
+            // the viscosity above it gives Roelands' Z = 0.69 (0.68-0.81 computed from the same table's oils).
             pressure_viscosity: 1.5e-8,
             // No read source sizes the cavity drag for a greased spindle bearing: opt in with
             // `oil_air` (oil fraction 0.01 for a channelled grease). The rolling resistance is
