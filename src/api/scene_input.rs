@@ -74,10 +74,11 @@ pub struct QuasiStaticRequest {
     /// Shaft speed, rev/min.
     #[schema(exclusive_minimum = 0.0, maximum = 100000.0, nullable = false)]
     pub shaft_rpm: Option<f64>,
-    /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer), closer to a
-    /// running cage than the steady balance: at 10000 rpm about 0.5 s under the paper's
-    /// curve and 4-8 s under the preset's rheology law, longer at low speed (4.5 s at 1000
-    /// rpm under the curve, 17 s at 2000 rpm under the law).
+    /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer), under the
+    /// paper's curve and the preset's physics closer to a running cage than the steady
+    /// balance: at 10000 rpm about 0.5 s under the paper's curve and 4-6 s under the preset's
+    /// physics, longer at low speed (4.5 s at 1000 rpm under the curve, 17 s at 2000 rpm
+    /// under the preset's physics).
     #[schema(nullable = false)]
     pub pocket_cycle: Option<bool>,
 }

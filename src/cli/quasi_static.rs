@@ -11,12 +11,12 @@ pub struct QuasiStaticArgs {
     #[arg(long)]
     pub rpm: Option<f64>,
     /// Also the cage speed by the pocket cycle (`pocket_cycle` in the output): one ball run
-    /// round its orbit in a pocket turning with the cage; closer to a running cage than the
-    /// steady traction balance (within 0.21 % at the paper's point under the preset's
-    /// rheology law; docs/reference/model.md, "Cage speed by the pocket cycle"). At 10000
-    /// rpm about 0.5 s under the paper's curve and 4-8 s under the rheology law; it grows
-    /// with the orbit's period (4.5 s at 1000 rpm under the curve, 17 s at 2000 rpm under
-    /// the law).
+    /// round its orbit in a pocket turning with the cage; under the paper's curve and the
+    /// preset's physics closer to a running cage than the steady traction balance (within
+    /// 0.21 % at the paper's point under the preset's; docs/reference/model.md, "Cage speed
+    /// by the pocket cycle"). At 10000 rpm about 0.5 s under the paper's curve and 4-6 s
+    /// under the preset's physics; it grows with the orbit's period (4.5 s at 1000 rpm under
+    /// the curve, 17 s at 2000 rpm under the preset's physics).
     #[arg(long)]
     pub pocket_cycle: bool,
 }

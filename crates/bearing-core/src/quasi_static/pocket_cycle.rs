@@ -45,7 +45,8 @@ pub struct PocketCycleSettings {
     /// Error control of the one-ball integration, relative and absolute (the latter in units
     /// of each state's natural size), -. Default 1e-6: against 1e-7 it moved the curve's
     /// balanced cage speed at the paper's point by 5e-8 relative (2026-11-28, with the pocket
-    /// at the mid-plane as first built) and the rheology law's by 2.7e-6 (2026-11-29).
+    /// at the mid-plane as first built) and, under the preset's physics (the rheology law
+    /// with rolling resistance), by 2.7e-6 (2026-11-29).
     pub tolerance: f64,
     /// Orbits averaged per block where the ball's orbit does not repeat within 8, -. Default 8.
     pub block_orbits: u32,
@@ -55,10 +56,32 @@ pub struct PocketCycleSettings {
     /// Accepted one-ball steps a whole search may take, -. Default 3 million: the preset's
     /// point at 10000 rpm needs about 0.14 million under the paper's curve and 1.1 million
     /// under the rheology law (2026-11-28), and the count grows with the orbit's period (the
-    /// time was 11 times as long at 1000 rpm under the curve; steps not counted), so at low
-    /// speed under the rheology law a search can run out and fail (not tried). It bounds
-    /// what a request waits for to tens of seconds.
+    /// time was 11 times as long at 1000 rpm under the curve; steps not counted): under the
+    /// preset's physics 2000 rpm fits (17 s, 2026-11-29), lower speeds may run out and fail
+    /// (not tried). It bounds what a request waits for to tens of seconds.
     pub step_budget: u64,
+}
+
+impl PocketCycleSettings {
+    /// Why these settings cannot run, naming the field: a zero or non-finite start would
+    /// give an orbit of no or infinite period, on which the integration never ends.
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+            return Err(format!("tolerance {} must be positive", self.tolerance));
+        }
+        if self.block_orbits == 0 {
+            return Err("block_orbits must be at least 1".into());
+        }
+        if let Some(c) = self.start {
+            if !(c.is_finite() && c > 0.0) {
+                return Err(format!("start {c} rad/s must be a positive cage speed"));
+            }
+        }
+        if self.step_budget == 0 {
+            return Err("step_budget must be at least 1".into());
+        }
+        Ok(())
+    }
 }
 
 impl Default for PocketCycleSettings {
@@ -287,7 +310,7 @@ fn net_torque(
     // mean over blocks of orbits, until two blocks agree to 1e-3 of the drag
     let mut last_block = f64::NAN;
     let mut orbits = 8;
-    let block = search.settings.block_orbits.max(1);
+    let block = search.settings.block_orbits;
     for _ in 0..7 {
         let mut sum = 0.0;
         for _ in 0..block {
@@ -414,4 +437,69 @@ pub(super) fn pocket_cycle(
         unsettled,
         orbits,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_that_cannot_run_are_refused_by_name() {
+        let ok = PocketCycleSettings::default();
+        assert_eq!(ok.check(), Ok(()));
+        for (bad, field) in [
+            (
+                PocketCycleSettings {
+                    start: Some(0.0),
+                    ..ok
+                },
+                "start",
+            ),
+            (
+                PocketCycleSettings {
+                    start: Some(f64::NAN),
+                    ..ok
+                },
+                "start",
+            ),
+            (
+                PocketCycleSettings {
+                    start: Some(-440.0),
+                    ..ok
+                },
+                "start",
+            ),
+            (
+                PocketCycleSettings {
+                    tolerance: 0.0,
+                    ..ok
+                },
+                "tolerance",
+            ),
+            (
+                PocketCycleSettings {
+                    tolerance: f64::INFINITY,
+                    ..ok
+                },
+                "tolerance",
+            ),
+            (
+                PocketCycleSettings {
+                    block_orbits: 0,
+                    ..ok
+                },
+                "block_orbits",
+            ),
+            (
+                PocketCycleSettings {
+                    step_budget: 0,
+                    ..ok
+                },
+                "step_budget",
+            ),
+        ] {
+            let e = bad.check().unwrap_err();
+            assert!(e.contains(field), "{bad:?}: {e}");
+        }
+    }
 }

@@ -624,7 +624,8 @@ pub fn pocket_cycle_until(
     pocket_cycle_with(scene, shaft_rpm, &PocketCycleSettings::default(), stop)
 }
 
-/// [`pocket_cycle_until`] with the cycle's numerical settings given.
+/// [`pocket_cycle_until`] with the cycle's numerical settings given; settings that cannot
+/// run are an error naming the setting ([`PocketCycleSettings::check`]).
 pub fn pocket_cycle_with(
     scene: &ValidScene,
     shaft_rpm: f64,
@@ -634,6 +635,9 @@ pub fn pocket_cycle_with(
     if !(shaft_rpm.is_finite() && shaft_rpm > 0.0) {
         return Err(QsError::InvalidSpeed { rpm: shaft_rpm });
     }
+    settings
+        .check()
+        .map_err(|reason| QsError::PocketCycle { reason })?;
     let m = Model::new(scene);
     let w = shaft_rpm * 2.0 * std::f64::consts::PI / 60.0;
     let st = solve_model(&m, w)?;
