@@ -77,8 +77,9 @@ pub struct QuasiStaticRequest {
     /// Also the cage speed by the pocket cycle (`pocket_cycle` in the answer), under the
     /// paper's curve and the preset's physics closer to a running cage than the steady
     /// balance: at 10000 rpm about 0.5 s under the paper's curve and 4-6 s under the preset's
-    /// physics, longer at low speed (4.5 s at 1000 rpm under the curve, 17 s at 2000 rpm
-    /// under the preset's physics).
+    /// physics, longer at low speed (4.5 s at 1000 rpm under the curve; 9-17 s at 2000 rpm
+    /// and 26-30 s at 1000 rpm under the preset's physics, which may exceed the request
+    /// timeout).
     #[schema(nullable = false)]
     pub pocket_cycle: Option<bool>,
 }

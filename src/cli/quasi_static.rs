@@ -16,7 +16,7 @@ pub struct QuasiStaticArgs {
     /// 0.21 % at the paper's point under the preset's; docs/reference/model.md, "Cage speed
     /// by the pocket cycle"). At 10000 rpm about 0.5 s under the paper's curve and 4-6 s
     /// under the preset's physics; it grows with the orbit's period (4.5 s at 1000 rpm under
-    /// the curve, 17 s at 2000 rpm under the preset's physics).
+    /// the curve; 9-17 s at 2000 rpm and 26-30 s at 1000 rpm under the preset's physics).
     #[arg(long)]
     pub pocket_cycle: bool,
 }

@@ -144,11 +144,7 @@ fn pocket_cycle_gives_the_running_cage_speed_under_the_default_physics() {
 #[test]
 fn pocket_cycle_is_converged_in_its_numerical_choices() {
     let valid = constant_speed(1.0, 1e-5).validated().unwrap();
-    let base = PocketCycleSettings {
-        // the tighter tolerance needs about twice the steps of the default's budget
-        step_budget: 10_000_000,
-        ..PocketCycleSettings::default()
-    };
+    let base = PocketCycleSettings::default();
     let base_cycle = pocket_cycle_with(&valid, 10_000.0, &base, &|| false).unwrap();
     assert!(
         base_cycle.orbits > 8 * base_cycle.torque_curve.len() as u32,

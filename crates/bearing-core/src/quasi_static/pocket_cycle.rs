@@ -53,12 +53,13 @@ pub struct PocketCycleSettings {
     /// Cage speed the search starts from, rad/s; `None` for the steady balance's (or the
     /// epicyclic speed where that found none).
     pub start: Option<f64>,
-    /// Accepted one-ball steps a whole search may take, -. Default 3 million: the preset's
+    /// Accepted one-ball steps a whole search may take, -. Default 10 million: the preset's
     /// point at 10000 rpm needs about 0.14 million under the paper's curve and 1.1 million
-    /// under the rheology law (2026-11-28), and the count grows with the orbit's period (the
-    /// time was 11 times as long at 1000 rpm under the curve; steps not counted): under the
-    /// preset's physics 2000 rpm fits (17 s, 2026-11-29), lower speeds may run out and fail
-    /// (not tried). It bounds what a request waits for to tens of seconds.
+    /// under the rheology law (2026-11-28), and the count grows with the orbit's period.
+    /// Under the preset's physics (2026-11-29, release builds, a quiet machine) 2000 rpm took
+    /// 9 s and fitted 3 million; 1000 rpm took 26-30 s and ran out of 3 million but not of 10
+    /// (below 1000 rpm the preset has no quasi-static equilibrium at its loads). The budget
+    /// bounds a search to about a minute; over HTTP the request's timeout stops it first.
     pub step_budget: u64,
 }
 
@@ -90,7 +91,7 @@ impl Default for PocketCycleSettings {
             tolerance: 1e-6,
             block_orbits: 8,
             start: None,
-            step_budget: 3_000_000,
+            step_budget: 10_000_000,
         }
     }
 }
