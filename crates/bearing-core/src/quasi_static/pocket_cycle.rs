@@ -129,7 +129,6 @@ struct OneBall<'a> {
     /// Quasi-static ball centre (axial, radial; m) at azimuths `k TAU / grid.len()`.
     grid: &'a [[f64; 2]],
     cage: f64,
-    tolerance: f64,
     /// Axial position of the cage's centre, m: the balls' mean (the pocket forces' axial
     /// parts centre a free cage on them).
     cage_axial: f64,
@@ -232,7 +231,8 @@ fn orbit_torque(ob: &mut OneBall, y: &mut [f64; N], search: &mut Search) -> Resu
     let period = TAU / ob.cage;
     // the azimuth and the torque integral are measured against their scales, not their size
     let unbounded = vec![true, false, false, false, false, true];
-    let norm = ErrorNorm::new(ob.tolerance, ob.tolerance, ob.scale.to_vec(), unbounded);
+    let tol = search.settings.tolerance;
+    let norm = ErrorNorm::new(tol, tol, ob.scale.to_vec(), unbounded);
     // the traction's and the pocket's stiffness act on the ball's speeds and azimuth; the
     // torque integral feeds nothing back
     let jac = BlockJacobian::partial(vec![0..5, 5..6], (0..5).map(|c| vec![c]).collect());
@@ -289,7 +289,6 @@ fn net_torque(
         outer: *outer,
         grid,
         cage,
-        tolerance: search.settings.tolerance,
         cage_axial: grid.iter().map(|p| p[0]).sum::<f64>() / grid.len() as f64,
         scale: [1e-3, cage.abs().max(1.0), w_scale, w_scale, w_scale, 1e-6],
     };

@@ -198,10 +198,9 @@ fn h7005c() -> Scene {
             dynamic_viscosity: 5.1e-6 * 870.0,
             // The rheology law (Roelands at each strip's Hertz pressure, Eyring thinning, a
             // limiting shear stress proportional to pressure, the Hamrock-Dowson film; the
-            // film's elastic compliance left out): the law that
-            // gives the paper's cage lag (BPFO below eq. 37, BPFI above), with `auto_slip`
-            // below taking its stiff slip relaxation (docs/reference/model.md, "Traction
-            // laws"). The paper's eq. 15 curve is `Traction::PAPER_CURVE` (`abcd`).
+            // film's elastic compliance left out): the law that gives the paper's cage lag
+            // (BPFO below eq. 37, BPFI above), with `auto_slip` below taking its stiff slip
+            // relaxation (docs/reference/model.md, "Traction laws"). The paper's eq. 15 curve is `Traction::PAPER_CURVE` (`abcd`).
             traction: Traction::RHEOLOGY,
             critical_film_ball_cage: 0.8e-6,
             critical_film_cage_land: 3.0e-6,
@@ -212,7 +211,8 @@ fn h7005c() -> Scene {
             density: 870.0,
             // Pressure-viscosity coefficient of a light spindle oil: Stachowiak & Batchelor,
             // Table 2.3, "spindle oil" 16e-9 at 60 deg C and 13e-9 1/Pa at 100 deg C; with
-            // the viscosity above it gives Roelands' Z = 0.69 (0.68-0.81 computed from the same table's oils).
+            // the viscosity above it gives Roelands' Z = 0.69 (0.68-0.81 computed from the
+            // same table's oils).
             pressure_viscosity: 1.5e-8,
             // No read source sizes the cavity drag for a greased spindle bearing: opt in with
             // `oil_air` (oil fraction 0.01 for a channelled grease). The rolling resistance is
