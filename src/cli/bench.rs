@@ -11,7 +11,7 @@ use super::bench_comparison::{
 use super::result::CliResult;
 use crate::plots::{work_precision_svg, WorkPrecisionSeries};
 use bearing_core::scene::{fault_case_scene, FaultCase, Fidelity, Integrator, Scene};
-use bearing_core::simulation::{simulate, RunControl, SimResult};
+use bearing_core::simulation::{simulate, RunControl};
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
@@ -48,6 +48,12 @@ pub enum BenchWhat {
         /// Also write the work-precision chart (log error against log run time) here.
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Runs per setting (1-9), the k-th from `solver.initial_step` times 1 - 0.1 k, which
+        /// changes the whole step sequence. Above 1 the errors are those of the ensemble
+        /// means, with their standard errors: for physics whose single runs scatter by more
+        /// than the tolerance moves them (the rheology law, docs/lab/benchmarks.md).
+        #[arg(long, default_value_t = 1)]
+        runs: usize,
     },
     /// Each fidelity level against the full model on one scene: run time, identified
     /// BPFO/BPFI, mean cage speed, band RMS below 20 kHz and peak contact loads.
@@ -100,6 +106,7 @@ pub fn main(args: BenchArgs) -> CliResult {
             levels,
             reference,
             svg,
+            runs,
         } => work_precision(
             &on,
             &tolerances,
@@ -107,6 +114,7 @@ pub fn main(args: BenchArgs) -> CliResult {
             &levels,
             reference,
             svg.as_deref(),
+            runs,
         ),
         BenchWhat::Fidelity {
             on,
@@ -185,6 +193,32 @@ fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>
     parse_name("--methods", "integrator", name)
 }
 
+/// One setting's runs ([`BenchWhat::WorkPrecision`]'s `--runs`): their readings and
+/// accepted steps.
+struct Ensemble {
+    readings: Vec<Reading>,
+    accepted: Vec<u64>,
+}
+
+impl Ensemble {
+    fn mean(&self, f: impl Fn(&Reading) -> f64) -> f64 {
+        self.readings.iter().map(&f).sum::<f64>() / self.readings.len() as f64
+    }
+
+    /// Standard error of the mean of `f`, in the unit of `f`; NaN for one run.
+    fn standard_error(&self, f: impl Fn(&Reading) -> f64) -> f64 {
+        let n = self.readings.len() as f64;
+        let m = self.mean(&f);
+        let var = self
+            .readings
+            .iter()
+            .map(|g| (f(g) - m).powi(2))
+            .sum::<f64>()
+            / (n - 1.0);
+        (var / n).sqrt()
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn work_precision(
     on: &ComparisonArgs,
@@ -193,7 +227,11 @@ fn work_precision(
     levels: &[String],
     tight: f64,
     svg: Option<&Path>,
+    runs: usize,
 ) -> CliResult {
+    if !(1..=9).contains(&runs) {
+        return Err(format!("--runs: must be 1 to 9 (got {runs})").into());
+    }
     let methods = methods
         .iter()
         .map(|m| parse_integrator(m).map(|i| (m.as_str(), i)))
@@ -202,37 +240,64 @@ fn work_precision(
         .iter()
         .map(|l| parse_fidelity(l).map(|f| (l.as_str(), f)))
         .collect::<Result<Vec<_>, _>>()?;
-    let run = |s: &Scene| -> Result<(SimResult, Reading), Box<dyn std::error::Error>> {
-        let r = simulate(&s.clone().validated()?, RunControl::default())?;
-        let reading = read(s, &r)?;
-        Ok((r, reading))
+    let run = |s: &Scene| -> Result<Ensemble, Box<dyn std::error::Error>> {
+        let mut e = Ensemble {
+            readings: Vec::new(),
+            accepted: Vec::new(),
+        };
+        for k in 0..runs {
+            let mut s = s.clone();
+            s.solver.initial_step *= 1.0 - 0.1 * k as f64;
+            let r = simulate(&s.clone().validated()?, RunControl::default())?;
+            e.readings.push(read(&s, &r)?);
+            e.accepted.push(r.summary.stats.accepted_steps);
+        }
+        Ok(e)
     };
     let full = Fidelity::Full;
     eprintln!("reference: adaptive RK4 at {tight:.0e}");
     let reference = scene(on, tight, Integrator::Rk4Adaptive, full)?;
-    let (reference, f) = run(&reference)?;
+    let f = run(&reference)?;
     let mut fixed = scene(on, tight, Integrator::Rk4Fixed, full)?;
     fixed.solver.initial_step = 1e-6;
     eprintln!("second method: fixed-step RK4 at 1 us");
-    let (check, c) = run(&fixed)?;
+    let c = run(&fixed)?;
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    let errors = |g: &Reading| {
-        vec![
-            rel(g.cage, f.cage),
-            rel(g.band_rms, f.band_rms),
-            rel(g.bpfo, f.bpfo),
-            rel(g.bpfi, f.bpfi),
-        ]
+    let readings: [fn(&Reading) -> f64; 4] = [|g| g.cage, |g| g.band_rms, |g| g.bpfo, |g| g.bpfi];
+    let errors = |g: &Ensemble| {
+        readings
+            .iter()
+            .map(|r| rel(g.mean(r), f.mean(r)))
+            .collect::<Vec<_>>()
     };
-    println!("| method | fidelity | tolerance / step | wall time (s) | accepted steps | RHS evaluations | cage speed error | band RMS error | BPFO error | BPFI error |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    let row = |name: &str, level: &str, tol: String, r: &SimResult, g: &Reading| {
+    let spread = runs > 1;
+    let (mean_of, extra_head, extra_rule) = if spread {
+        (
+            "mean ",
+            " cage speed s.e. | band RMS s.e. |",
+            " --- | --- |",
+        )
+    } else {
+        ("", "", "")
+    };
+    println!("| method | fidelity | tolerance / step | {mean_of}wall time (s) | {mean_of}accepted steps | {mean_of}RHS evaluations | cage speed error | band RMS error | BPFO error | BPFI error |{extra_head}");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |{extra_rule}");
+    let row = |name: &str, level: &str, tol: String, g: &Ensemble| {
         let e = errors(g);
+        let extra = if spread {
+            format!(
+                " {:.1e} | {:.1e} |",
+                g.standard_error(|g| g.cage) / f.mean(|g| g.cage),
+                g.standard_error(|g| g.band_rms) / f.mean(|g| g.band_rms)
+            )
+        } else {
+            String::new()
+        };
         println!(
-            "| {name} | {level} | {tol} | {:.2} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |",
-            r.summary.stats.wall_time,
-            r.summary.stats.accepted_steps,
-            r.summary.stats.rhs_evaluations,
+            "| {name} | {level} | {tol} | {:.2} | {:.0} | {:.0} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |{extra}",
+            g.mean(|g| g.wall),
+            g.accepted.iter().sum::<u64>() as f64 / g.accepted.len() as f64,
+            g.mean(|g| g.rhs as f64),
             e[0],
             e[1],
             e[2],
@@ -240,14 +305,8 @@ fn work_precision(
         )
     };
     let tight_name = format!("{tight:.0e}");
-    row(
-        "reference: rk4_adaptive",
-        "full",
-        tight_name,
-        &reference,
-        &f,
-    );
-    row("check: rk4_fixed", "full", "1e-6 s".into(), &check, &c);
+    row("reference: rk4_adaptive", "full", tight_name, &f);
+    row("check: rk4_fixed", "full", "1e-6 s".into(), &c);
     let mut series = Vec::new();
     for &(level_name, level) in &levels {
         for &(name, integrator) in &methods {
@@ -259,9 +318,9 @@ fn work_precision(
             let mut points = Vec::new();
             for &t in tolerances {
                 eprintln!("{label} at {t:.0e}");
-                let (r, g) = run(&scene(on, t, integrator, level)?)?;
-                row(name, level_name, format!("{t:.0e}"), &r, &g);
-                points.push((r.summary.stats.wall_time, errors(&g)));
+                let g = run(&scene(on, t, integrator, level)?)?;
+                row(name, level_name, format!("{t:.0e}"), &g);
+                points.push((g.mean(|g| g.wall), errors(&g)));
             }
             series.push(WorkPrecisionSeries { label, points });
         }

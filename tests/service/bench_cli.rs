@@ -79,6 +79,50 @@ fn work_precision_prints_every_method_and_level_and_plots_them() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `--runs` reads ensembles: each row is the mean of its runs (each from another initial
+/// step, so another step sequence), with the standard errors of the cage speed and the band
+/// RMS beside it; a count outside 1-9 is refused, naming the flag, before anything runs.
+#[test]
+fn work_precision_reads_ensembles_with_runs() {
+    let (table, _) = bench(&[
+        "work-precision",
+        "--duration",
+        "0.02",
+        "--tolerances",
+        "1e-4",
+        "--methods",
+        "rk4_fsal",
+        "--levels",
+        "full",
+        "--reference",
+        "1e-6",
+        "--runs",
+        "2",
+    ]);
+    let header = table.lines().find(|l| l.starts_with("| method")).unwrap();
+    assert!(
+        header.contains("mean RHS evaluations") && header.contains("band RMS s.e."),
+        "{table}"
+    );
+    for method in ["reference: rk4_adaptive", "check: rk4_fixed", "rk4_fsal"] {
+        let r = rows(&table, method);
+        assert_eq!(r.len(), 1, "{table}");
+        assert_eq!(r[0].len(), 12, "{table}");
+        // two step sequences give two band RMS readings: a standard error, neither 0 nor NaN
+        let se: f64 = r[0][11].parse().unwrap();
+        assert!(se > 0.0 && se.is_finite(), "{method}: {table}");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["bench", "work-precision", "--runs", "0"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        !out.status.success() && stderr.contains("--runs"),
+        "{stderr}"
+    );
+}
+
 #[test]
 fn fidelity_compares_each_level_with_full() {
     let (table, _) = bench(&[
