@@ -3,7 +3,8 @@
 //! `bench cases` runs the preset's four fault cases (Table 1 scene) and prints wall time
 //! and solver statistics; `bench work-precision` runs one scene at several tolerances
 //! and reports run time against error relative to a tight reference; `bench stress` runs
-//! the stability stress suite (`bench_stress.rs`).
+//! the stability stress suite (`bench_stress.rs`); `bench stiffness` the Jacobian's spectrum
+//! at states of a run (`bench_stiffness.rs`).
 
 use super::bench_comparison::{
     comparison_scene, parse_fidelity, parse_name, read, ComparisonArgs, Reading,
@@ -94,6 +95,19 @@ pub enum BenchWhat {
         #[arg(long)]
         short: bool,
     },
+    /// Where the stiffness is: the largest eigenvalues of the Jacobian at states of a run,
+    /// whole and with each ball's velocity block, each ball's block or every body's block
+    /// taken out (as an integrator exact on them would), and RK4's stable step on each.
+    Stiffness {
+        #[command(flatten)]
+        on: ComparisonArgs,
+        /// Times of the run to look at, s (0: its initial state).
+        #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.3])]
+        at: Vec<f64>,
+        /// Eigenvalues to print per part, largest magnitude first.
+        #[arg(long, default_value_t = 4)]
+        count: usize,
+    },
 }
 
 pub fn main(args: BenchArgs) -> CliResult {
@@ -136,6 +150,9 @@ pub fn main(args: BenchArgs) -> CliResult {
             only,
             short,
         } => super::bench_stress::stress(duration, &only, short),
+        BenchWhat::Stiffness { on, at, count } => {
+            super::bench_stiffness::stiffness(&on, &at, count)
+        }
     }
 }
 

@@ -4,6 +4,7 @@ pub mod analyze;
 pub mod bench;
 mod bench_comparison;
 mod bench_fidelity;
+mod bench_stiffness;
 mod bench_stress;
 mod command;
 pub mod inspect;

@@ -67,6 +67,8 @@ const LAYERS: &[Layers] = &[
             ("run_recording", 7),
             // The stress suite builds scenes, runs them and checks their results.
             ("stress", 6),
+            // Where the stiffness is: a run's state and its Jacobian's spectrum (lab tool).
+            ("stiffness", 6),
             // Study requests, designs and plans as data, and the table read from runs.
             ("study", 7),
             (ROOT, 10),

@@ -165,3 +165,39 @@ fn fidelity_refuses_an_unknown_quadrature_before_running() {
     // nothing ran: the reference's progress line is not there
     assert!(!stderr.contains("reference"), "{stderr}");
 }
+
+/// `bench stiffness` prints, per state, each part's largest eigenvalues with RK4's stable
+/// step on each (2.8 / |lambda|); at the preset's start the whole Jacobian's largest is the
+/// balls' slip relaxation, which taking their velocity blocks out removes (the row below
+/// it is then smaller); a negative time is refused by name.
+#[test]
+fn stiffness_prints_each_part_at_each_state() {
+    let (table, _) = bench(&["stiffness", "--fault", "none", "--at", "0", "--count", "2"]);
+    let magnitude = |part: &str| -> Vec<f64> {
+        rows(&table, part)
+            .iter()
+            .map(|cells| {
+                let (m, step): (f64, f64) = (cells[3].parse().unwrap(), cells[4].parse().unwrap());
+                // the printed step is 2.8 / |lambda| to the three figures printed
+                assert!((step * m / 2.8 - 1.0).abs() < 0.01, "{cells:?}");
+                m
+            })
+            .collect()
+    };
+    let whole = magnitude("nothing");
+    let velocities_out = magnitude("each ball's velocity block");
+    assert_eq!(whole.len(), 2, "{table}");
+    assert_eq!(velocities_out.len(), 2, "{table}");
+    assert_eq!(magnitude("every body's block").len(), 2, "{table}");
+    assert!(
+        whole[0] >= whole[1] && velocities_out[0] < whole[0],
+        "{table}"
+    );
+
+    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .args(["bench", "stiffness", "--at=-1"])
+        .output()
+        .expect("the binary runs");
+    assert!(!out.status.success());
+    assert!(String::from_utf8(out.stderr).unwrap().contains("--at"));
+}

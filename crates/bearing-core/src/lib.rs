@@ -33,6 +33,8 @@
 //!   table read from their runs. Running the points is the caller's.
 //! - `stress` (feature `stress`, off by default): the stability stress suite: extreme scenes
 //!   and the invariants their runs keep (or the field their refusal names).
+//! - `stiffness` (feature `stress`): where the stiffness is, the eigenvalues of the
+//!   Jacobian at a state of a run, whole and with chosen diagonal blocks taken out.
 
 /// The engine's identity: 16 hex digits of a SHA-256 over its sources, its manifest, the
 /// workspace's locked dependency versions, the compiler's version, the target and the
@@ -55,6 +57,8 @@ pub mod scene;
 pub mod signal;
 pub mod simulation;
 pub mod simulation_analysis;
+#[cfg(feature = "stress")]
+pub mod stiffness;
 #[cfg(feature = "stress")]
 pub mod stress;
 pub mod study;
