@@ -101,7 +101,8 @@ pub enum BenchWhat {
     Stiffness {
         #[command(flatten)]
         on: ComparisonArgs,
-        /// Times of the run to look at, s (0: its initial state).
+        /// Times of the run to look at, 0 to 10 s (0: its initial state); each is reached by
+        /// running the scene to it (`--duration` is not read).
         #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.3])]
         at: Vec<f64>,
         /// Eigenvalues to print per part, largest magnitude first.

@@ -18,6 +18,43 @@ fn bench(args: &[&str]) -> (String, String) {
     (stdout, stderr)
 }
 
+/// `bench work-precision` on the test suite's short scene (0.02 s, one tolerance, a loose
+/// reference) with `methods` at `levels`, and `extra` arguments.
+fn work_precision(methods: &str, levels: &str, extra: &[&str]) -> (String, String) {
+    let mut args = vec![
+        "work-precision",
+        "--duration",
+        "0.02",
+        "--tolerances",
+        "1e-4",
+        "--reference",
+        "1e-6",
+        "--methods",
+        methods,
+        "--levels",
+        levels,
+    ];
+    args.extend_from_slice(extra);
+    bench(&args)
+}
+
+/// `bench args` fails before it runs anything, and its error names `flag`; returns the error.
+fn refused(args: &[&str], flag: &str) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+        .arg("bench")
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        !out.status.success() && stderr.contains(flag),
+        "{args:?}: {stderr}"
+    );
+    // nothing ran: no reference's progress line
+    assert!(!stderr.contains("reference"), "{stderr}");
+    stderr
+}
+
 /// Table rows (not the header or its rule) whose first cell is `method`.
 fn rows<'a>(table: &'a str, method: &str) -> Vec<Vec<&'a str>> {
     table
@@ -38,21 +75,11 @@ fn work_precision_prints_every_method_and_level_and_plots_them() {
     let dir = std::env::temp_dir().join(format!("bearing-sim-wp-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let svg = dir.join("wp.svg");
-    let (table, log) = bench(&[
-        "work-precision",
-        "--duration",
-        "0.02",
-        "--tolerances",
-        "1e-4",
-        "--methods",
+    let (table, log) = work_precision(
         "rk4_fsal,rosenbrock_w",
-        "--levels",
         "full,concentric_cage",
-        "--reference",
-        "1e-6",
-        "--svg",
-        svg.to_str().unwrap(),
-    ]);
+        &["--svg", svg.to_str().unwrap()],
+    );
     // reference and check, then each method at both levels
     assert_eq!(rows(&table, "reference: rk4_adaptive").len(), 1, "{table}");
     assert_eq!(rows(&table, "check: rk4_fixed").len(), 1, "{table}");
@@ -84,21 +111,7 @@ fn work_precision_prints_every_method_and_level_and_plots_them() {
 /// RMS beside it; a count outside 1-9 is refused, naming the flag, before anything runs.
 #[test]
 fn work_precision_reads_ensembles_with_runs() {
-    let (table, _) = bench(&[
-        "work-precision",
-        "--duration",
-        "0.02",
-        "--tolerances",
-        "1e-4",
-        "--methods",
-        "rk4_fsal",
-        "--levels",
-        "full",
-        "--reference",
-        "1e-6",
-        "--runs",
-        "2",
-    ]);
+    let (table, _) = work_precision("rk4_fsal", "full", &["--runs", "2"]);
     let header = table.lines().find(|l| l.starts_with("| method")).unwrap();
     assert!(
         header.contains("mean RHS evaluations") && header.contains("band RMS s.e."),
@@ -112,15 +125,7 @@ fn work_precision_reads_ensembles_with_runs() {
         let se: f64 = r[0][11].parse().unwrap();
         assert!(se > 0.0 && se.is_finite(), "{method}: {table}");
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-        .args(["bench", "work-precision", "--runs", "0"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        !out.status.success() && stderr.contains("--runs"),
-        "{stderr}"
-    );
+    refused(&["work-precision", "--runs", "0"], "--runs");
 }
 
 #[test]
@@ -152,24 +157,17 @@ fn fidelity_compares_each_level_with_full() {
 
 #[test]
 fn fidelity_refuses_an_unknown_quadrature_before_running() {
-    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-        .args(["bench", "fidelity", "--quadratures", "gauss,simpson"])
-        .output()
-        .expect("the binary runs");
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert!(!out.status.success());
-    assert!(
-        stderr.contains("--quadratures") && stderr.contains("simpson"),
-        "{stderr}"
+    let stderr = refused(
+        &["fidelity", "--quadratures", "gauss,simpson"],
+        "--quadratures",
     );
-    // nothing ran: the reference's progress line is not there
-    assert!(!stderr.contains("reference"), "{stderr}");
+    assert!(stderr.contains("simpson"), "{stderr}");
 }
 
 /// `bench stiffness` prints, per state, each part's largest eigenvalues with RK4's stable
 /// step on each (2.8 / |lambda|); at the preset's start the whole Jacobian's largest is the
 /// balls' slip relaxation, which taking their velocity blocks out removes (the row below
-/// it is then smaller); a negative time is refused by name.
+/// it is then smaller); a time outside 0-10 s or a count outside 1-50 is refused by name.
 #[test]
 fn stiffness_prints_each_part_at_each_state() {
     let (table, _) = bench(&["stiffness", "--fault", "none", "--at", "0", "--count", "2"]);
@@ -194,10 +192,11 @@ fn stiffness_prints_each_part_at_each_state() {
         "{table}"
     );
 
-    let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
-        .args(["bench", "stiffness", "--at=-1"])
-        .output()
-        .expect("the binary runs");
-    assert!(!out.status.success());
-    assert!(String::from_utf8(out.stderr).unwrap().contains("--at"));
+    for (arg, says) in [
+        ("--at=-1", "--at: times from 0 to 10 s (got -1)"),
+        ("--at=11", "--at: times from 0 to 10 s (got 11)"),
+        ("--count=0", "--count: 1 to 50 eigenvalues (got 0)"),
+    ] {
+        refused(&["stiffness", arg], says);
+    }
 }
