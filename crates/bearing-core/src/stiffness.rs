@@ -124,9 +124,9 @@ pub fn stiffness_at(
     if jacobian.iter().any(|v| !v.is_finite()) {
         return Err(StiffnessError::NonFinite(t));
     }
-    // the eigenvalues of D^-1 J D (D the natural sizes) are J's, and its entries are of
-    // comparable sizes, which the Schur iteration (without balancing) needs for accuracy;
-    // taking a diagonal block out of it takes the same block out of J
+    // the eigenvalues of D^-1 J D (D the natural sizes) are J's, and its entries are closer
+    // in size (rates per natural size), which the Schur iteration, without balancing of its
+    // own, needs for accuracy; taking a diagonal block out of it takes the same out of J
     let balanced = DMatrix::from_fn(jacobian.nrows(), jacobian.ncols(), |i, j| {
         jacobian[(i, j)] * scale[j] / scale[i]
     });
