@@ -12,13 +12,13 @@
 
 use crate::dynamics::error_scale::scales;
 use crate::dynamics::rhs::rhs;
-use crate::dynamics::system::BearingSystem;
-use crate::model::layout::{ball, BALL, CAGE, INNER, OUTER};
+use crate::dynamics::run::step_limits;
+use crate::dynamics::system::{ball_velocity_block, body_blocks, BearingSystem};
 use crate::model::Model;
 use crate::ode::error::SolveError;
 use crate::ode::error_norm::ErrorNorm;
 use crate::ode::explicit_rk::ExplicitRk;
-use crate::ode::solver::{Solver, StepLimits};
+use crate::ode::solver::Solver;
 use crate::ode::tableau::RK4_FSAL;
 use crate::quasi_static::{initial_state, solve_model};
 use crate::scene::{Fidelity, ValidScene};
@@ -55,22 +55,15 @@ impl Removed {
         Removed::Bodies,
     ];
 
-    /// The blocks of a model's state this takes out.
+    /// The blocks of a model's state this takes out: the solver's own
+    /// (`dynamics::system`), so the two cannot drift apart.
     fn blocks(self, m: &Model) -> Vec<Range<usize>> {
-        let l = &m.layout;
-        let balls = (0..l.balls).map(|j| l.ball(j));
+        let balls = 0..m.layout.balls;
         match self {
             Removed::Nothing => vec![],
-            Removed::BallVelocities => balls.map(|b| b + ball::X_DOT..b + BALL).collect(),
-            Removed::Balls => balls.map(|b| b..b + BALL).collect(),
-            Removed::Bodies => balls
-                .map(|b| b..b + BALL)
-                .chain([
-                    l.inner..l.inner + INNER,
-                    l.outer..l.outer + OUTER,
-                    l.cage..l.cage + CAGE,
-                ])
-                .collect(),
+            Removed::BallVelocities => balls.map(|j| ball_velocity_block(m, j)).collect(),
+            Removed::Balls => body_blocks(m).into_iter().take(m.layout.balls).collect(),
+            Removed::Bodies => body_blocks(m),
         }
     }
 }
@@ -157,13 +150,7 @@ fn state_at(m: &Model, scene: &ValidScene, y0: Vec<f64>, t: f64) -> Result<Vec<f
     let mut sys = BearingSystem::new(m, &scale);
     let norm = ErrorNorm::new(sv.rtol, sv.atol, scale.clone(), phase);
     let method = ExplicitRk::adaptive(&RK4_FSAL, m.layout.len, norm);
-    let limits = StepLimits {
-        t_end: t,
-        initial_step: sv.initial_step,
-        max_step: sv.max_step,
-        min_step: 1e-14_f64.max(t * 1e-13),
-    };
-    let mut solver = Solver::new(&mut sys, method, y0, limits);
+    let mut solver = Solver::new(&mut sys, method, y0, step_limits(scene, t));
     while !solver.finished() {
         solver.step(&mut sys)?;
     }
@@ -200,6 +187,7 @@ fn central_jacobian(m: &Model, t: f64, y: &[f64], scale: &[f64]) -> DMatrix<f64>
 mod tests {
     use super::*;
     use crate::dynamics::rhs::Diagnostics;
+    use crate::model::layout::{ball, CAGE};
     use crate::scene::{fault_case_scene, FaultCase};
 
     fn preset() -> ValidScene {

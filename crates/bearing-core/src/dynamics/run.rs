@@ -33,12 +33,7 @@ pub fn integrate(
     let n = m.layout.len;
     let (scale, phase) = scales(m);
     let mut sys = BearingSystem::new(m, &scale);
-    let limits = StepLimits {
-        t_end: sv.duration,
-        initial_step: sv.initial_step,
-        max_step: sv.max_step,
-        min_step: 1e-14_f64.max(sv.duration * 1e-13),
-    };
+    let limits = step_limits(scene, sv.duration);
     // the bearing's natural sizes scale the error norm (and the Jacobian's differences)
     let norm = ErrorNorm::new(sv.rtol, sv.atol, scale.clone(), phase);
     // one monomorphised loop per method
@@ -83,6 +78,18 @@ pub fn integrate(
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }
+    }
+}
+
+/// The scene's step limits for a run to `t_end` (s): its initial and largest step, and an
+/// underflow below 1e-13 of the run (at least 1e-14 s).
+pub fn step_limits(scene: &ValidScene, t_end: f64) -> StepLimits {
+    let sv = &scene.solver;
+    StepLimits {
+        t_end,
+        initial_step: sv.initial_step,
+        max_step: sv.max_step,
+        min_step: 1e-14_f64.max(t_end * 1e-13),
     }
 }
 

@@ -8,6 +8,7 @@ use crate::model::Model;
 use crate::ode::block_jacobian::{difference_step, BlockJacobian};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock_tableau::ROS34PRW_EXPLICIT_STABILITY;
+use std::ops::Range;
 
 /// Which part of the bearing's Jacobian a linearly implicit method gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -237,10 +238,7 @@ impl JacobianSystem for BearingSystem<'_> {
 /// per Jacobian.
 pub fn bearing_jacobian(m: &Model) -> BlockJacobian {
     let l = &m.layout;
-    let mut blocks: Vec<_> = (0..l.balls).map(|j| l.ball(j)..l.ball(j) + BALL).collect();
-    blocks.push(l.inner..l.inner + INNER);
-    blocks.push(l.outer..l.outer + OUTER);
-    blocks.push(l.cage..l.cage + CAGE);
+    let blocks = body_blocks(m);
     let mut groups: Vec<Vec<usize>> = (0..BALL)
         .map(|k| (0..l.balls).map(|j| l.ball(j) + k).collect())
         .collect();
@@ -269,24 +267,53 @@ pub fn bearing_jacobian(m: &Model) -> BlockJacobian {
 /// levels; a film too stiff for the explicit part).
 pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
     let l = &m.layout;
-    let first = if m.quasi_static_balls {
-        ball::THETA_DOT
-    } else {
-        ball::X_DOT
-    };
     let mut blocks = Vec::with_capacity(2 * l.balls + 3);
     for j in 0..l.balls {
-        let b = l.ball(j);
-        blocks.push(b..b + first);
-        blocks.push(b + first..b + BALL);
+        let velocities = ball_velocity_block(m, j);
+        blocks.push(l.ball(j)..velocities.start);
+        blocks.push(velocities);
     }
-    blocks.push(l.inner..l.inner + INNER);
-    blocks.push(l.outer..l.outer + OUTER);
-    blocks.push(l.cage..l.cage + CAGE);
+    blocks.extend(rings_and_cage(m));
+    let first = first_velocity_slot(m);
     let groups = (first..BALL)
         .map(|k| (0..l.balls).map(|j| l.ball(j) + k).collect())
         .collect();
     BlockJacobian::partial(blocks, groups)
+}
+
+/// Every body's slots, one range each: each ball's, the inner ring's, the outer ring's and
+/// the cage's (the blocks of [`bearing_jacobian`]).
+pub fn body_blocks(m: &Model) -> Vec<Range<usize>> {
+    let l = &m.layout;
+    (0..l.balls)
+        .map(|j| l.ball(j)..l.ball(j) + BALL)
+        .chain(rings_and_cage(m))
+        .collect()
+}
+
+/// Ball `j`'s velocities, the block [`ball_velocity_jacobian`] takes implicitly: at full
+/// fidelity the axial, radial and orbital speeds and the three spin components; with
+/// quasi-static balls (their centres algebraic) the orbital speed and the spins.
+pub fn ball_velocity_block(m: &Model, j: usize) -> Range<usize> {
+    let b = m.layout.ball(j);
+    b + first_velocity_slot(m)..b + BALL
+}
+
+fn first_velocity_slot(m: &Model) -> usize {
+    if m.quasi_static_balls {
+        ball::THETA_DOT
+    } else {
+        ball::X_DOT
+    }
+}
+
+fn rings_and_cage(m: &Model) -> [Range<usize>; 3] {
+    let l = &m.layout;
+    [
+        l.inner..l.inner + INNER,
+        l.outer..l.outer + OUTER,
+        l.cage..l.cage + CAGE,
+    ]
 }
 
 #[cfg(test)]
