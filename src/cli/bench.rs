@@ -211,11 +211,9 @@ fn parse_integrator(name: &str) -> Result<Integrator, Box<dyn std::error::Error>
     parse_name("--methods", "integrator", name)
 }
 
-/// One setting's runs ([`BenchWhat::WorkPrecision`]'s `--runs`): their readings and
-/// accepted steps.
+/// One setting's runs ([`BenchWhat::WorkPrecision`]'s `--runs`): their readings.
 struct Ensemble {
     readings: Vec<Reading>,
-    accepted: Vec<u64>,
 }
 
 impl Ensemble {
@@ -261,14 +259,12 @@ fn work_precision(
     let run = |s: &Scene| -> Result<Ensemble, Box<dyn std::error::Error>> {
         let mut e = Ensemble {
             readings: Vec::new(),
-            accepted: Vec::new(),
         };
         for k in 0..runs {
             let mut s = s.clone();
             s.solver.initial_step *= 1.0 - 0.1 * k as f64;
             let r = simulate(&s.clone().validated()?, RunControl::default())?;
             e.readings.push(read(&s, &r)?);
-            e.accepted.push(r.summary.stats.accepted_steps);
         }
         Ok(e)
     };
@@ -314,7 +310,7 @@ fn work_precision(
         println!(
             "| {name} | {level} | {tol} | {:.2} | {:.0} | {:.0} | {:.2e} | {:.2e} | {:.2e} | {:.2e} |{extra}",
             g.mean(|g| g.wall),
-            g.accepted.iter().sum::<u64>() as f64 / g.accepted.len() as f64,
+            g.mean(|g| g.accepted as f64),
             g.mean(|g| g.rhs as f64),
             e[0],
             e[1],

@@ -83,6 +83,7 @@ pub fn name_of<T: serde::Serialize>(value: T) -> String {
 /// What a comparison reads from one run.
 pub struct Reading {
     pub wall: f64,
+    pub accepted: u64,
     pub rhs: u64,
     pub cage: f64,
     pub band_rms: f64,
@@ -116,6 +117,7 @@ pub fn read(scene: &Scene, r: &SimResult) -> Result<Reading, Box<dyn std::error:
     };
     Ok(Reading {
         wall: r.summary.stats.wall_time,
+        accepted: r.summary.stats.accepted_steps,
         rhs: r.summary.stats.rhs_evaluations,
         cage: r.summary.mean_cage_speed,
         band_rms: steady_band_rms(r, "outer_ring_accel_z", 20e3).expect("always recorded"),
