@@ -4,8 +4,8 @@
 use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
-use super::rheology_traction::StripCellLaw;
-use super::rolling_resistance::RollingResistance;
+use super::rheology_traction::ContactRheology;
+use super::rolling_resistance::{RollingResistance, ENTRAINMENT_REGULARIZATION};
 use super::strips::Strips;
 use super::traction::TractionLaw;
 use nalgebra::{Matrix3, Vector3};
@@ -285,12 +285,13 @@ fn race_contact_body(
 
     let r_contact = ball.centre - ring.centre + race.ball_radius * u;
     // entrainment velocity, only when the film law or the rolling resistance reads it
-    let um = if race.traction.needs_entrainment() || race.rolling.is_some() {
-        entrainment_velocity(ring, ball, &u, race.ball_radius, &r_contact)
+    let (um, load) = if race.traction.needs_entrainment() || race.rolling.is_some() {
+        let um = entrainment_velocity(ring, ball, &u, race.ball_radius, &r_contact);
+        (um, ContactLoad::new(q, um.norm()))
     } else {
-        Vector3::zeros()
+        (Vector3::zeros(), ContactLoad::without_entrainment(q))
     };
-    let (f_tr, m_ball, m_ring_strips) = strip_traction(race, ring, ball, p, q, um.norm(), &u, &t);
+    let (f_tr, m_ball, m_ring_strips) = strip_traction(race, ring, ball, p, &load, &u, &t);
     // eq. 18
     let f_ball = normal_force_on_ball + f_tr;
     out.force_on_ball = f_ball;
@@ -298,9 +299,55 @@ fn race_contact_body(
     out.force_on_ring = -f_ball;
     out.moment_on_ring = m_ring_strips + r_contact.cross(&(-normal_force_on_ball));
     if let Some(rr) = &race.rolling {
-        rolling_resistance(rr, q, &um, race.ball_radius * u, &r_contact, &mut out);
+        rolling_resistance(rr, &load, &um, race.ball_radius * u, &r_contact, &mut out);
     }
     out
+}
+
+/// What the laws of one contact read of its load and entrainment, computed once for all of
+/// them: the ellipse's size, the film and the rolling resistance.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactLoad {
+    /// Normal load, N (> 0).
+    pub q: f64,
+    /// Its cube root, N^(1/3).
+    pub q13: f64,
+    /// Entrainment speed, m/s.
+    pub speed: f64,
+    /// The speed floored at [`ENTRAINMENT_REGULARIZATION`], m/s (>= every law's floor for
+    /// its logarithm, which [`RheologyTraction`](super::rheology_traction::RheologyTraction)
+    /// floors again at its own).
+    pub floored: f64,
+    /// `ln` of `floored` (NaN from [`ContactLoad::without_entrainment`]).
+    pub ln_floored: f64,
+}
+
+impl ContactLoad {
+    /// At load `q` (N, > 0) and entrainment speed `speed` (m/s).
+    #[inline(always)]
+    pub fn new(q: f64, speed: f64) -> ContactLoad {
+        let floored = speed.max(ENTRAINMENT_REGULARIZATION);
+        ContactLoad {
+            q,
+            q13: cube_root(q),
+            speed,
+            floored,
+            ln_floored: floored.ln(),
+        }
+    }
+
+    /// At load `q` (N, > 0) where no law reads the entrainment (the traction curve without
+    /// rolling resistance): its logarithm is not taken, and NaN says so to any reader.
+    #[inline(always)]
+    pub fn without_entrainment(q: f64) -> ContactLoad {
+        ContactLoad {
+            q,
+            q13: cube_root(q),
+            speed: 0.0,
+            floored: ENTRAINMENT_REGULARIZATION,
+            ln_floored: f64::NAN,
+        }
+    }
 }
 
 /// Entrainment velocity of a contact: the mean of the two surfaces' velocities at the
@@ -330,24 +377,27 @@ fn entrainment_velocity(
 /// centre with `2 F_R` the other way. On the ball that is a net force `F_R` along the
 /// entrainment velocity (backwards for a rolling ball) and the moment of the shear about
 /// its centre; the ring takes the opposite net force at the contact, so momentum is kept.
-#[inline]
+///
+/// Always inlined, so it is compiled into the contact's AVX2 copy too: as a call it ran
+/// baseline code, 5-9 % of a Table-1 run (perf, 2026-11-29).
+#[inline(always)]
 fn rolling_resistance(
     rr: &RollingResistance,
-    q: f64,
+    load: &ContactLoad,
     um: &Vector3<f64>,
     r_b: Vector3<f64>,
     r_contact: &Vector3<f64>,
     out: &mut ContactResult,
 ) {
-    let f = rr.force_along(q, um);
+    let f = rr.force_along_given(load.q, load.q13, um, load.floored, load.ln_floored);
     out.force_on_ball += f;
     out.moment_on_ball -= r_b.cross(&f);
     out.force_on_ring -= f;
     out.moment_on_ring -= r_contact.cross(&f);
 }
 
-/// EHL traction of one contact carrying `q` (N) with unit normal `u` and rolling direction
-/// `t` and entrainment speed `um` (m/s, read by the film law only), by strips across the
+/// EHL traction of one contact carrying `load` with unit normal `u` and rolling direction
+/// `t` (its entrainment speed read by the film laws only), by strips across the
 /// ellipse's major axis (eqs. 9-16): the force on the ball (N), its moment about the ball
 /// centre and the reaction's moment about the ring centre (N m).
 #[allow(clippy::too_many_arguments)]
@@ -357,14 +407,13 @@ pub fn strip_traction(
     ring: &RingMotion,
     ball: &BallMotion,
     p: &ContactParams,
-    q: f64,
-    um: f64,
+    load: &ContactLoad,
     u: &Vector3<f64>,
     t: &Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
     // s_hat spans the axial-radial plane across the rolling direction.
     let s_hat = u.cross(t);
-    let q13 = cube_root(q);
+    let (q, q13) = (load.q, load.q13);
     let a = race.hertz.a_coef * q13;
     let rb = race.ball_radius;
     let a_eff = a.min(0.999 * rb);
@@ -395,14 +444,14 @@ pub fn strip_traction(
     let (f_tr, f_h, f_y) = match &race.traction {
         TractionLaw::Curve(curve) => strips.sum(|_| (), |_, s| curve.mu_over_s(s)),
         TractionLaw::Film(law) => {
-            let film = law.at(q, um);
+            let film = law.at(q, load.speed);
             strips.sum(|_| (), |_, s| film.mu_over_s(0.0, s))
         }
         TractionLaw::Rheology(law) => {
-            let film = law.at_load(q, q13, um);
+            let film = law.at_load(q, q13, load.ln_floored);
             // the film of a strip depends on its pressure, so on |xi| alone: once per pair;
             // where the law is steep on a cell's scale, its mean over the cell
-            strips.sum_cells(|chord| film.strip_cell_law(chord))
+            strips.sum_cells(&film)
         }
     };
     let m_ball = u.cross(&f_h) + s_hat.cross(&f_y);
@@ -487,14 +536,13 @@ impl StripSums<'_> {
     }
 
     /// [`StripSums::sum`] with each strip's law averaged over its cell
-    /// ([`StripCellLaw::cell_mean`]): the slip at `y` changes along the strip line by
+    /// ([`cell_mean`](super::rheology_traction::StripCellLaw::cell_mean)): the slip at `y` changes along the strip line by
     /// `dv/dy = h'(y) c1 + c2`, `h'(y) = -y / sqrt(r'^2 - y^2)`, so across the cell by
-    /// `dv/dy a cell`.
+    /// `dv/dy a cell`. Given the contact's film rather than a closure making each pair's law
+    /// of it: as a closure the film was compiled out of line for the baseline processor and
+    /// called from the AVX2 copy of the contact, 11 % of a Table-1 run (perf, 2026-11-29).
     #[inline(always)]
-    fn sum_cells(
-        &self,
-        pair_law: impl Fn(f64) -> StripCellLaw,
-    ) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    fn sum_cells(&self, film: &ContactRheology) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
         let [c0, c1, c2] = self.c;
         let mut f_tr = Vector3::zeros();
         let mut f_h = Vector3::zeros();
@@ -506,7 +554,7 @@ impl StripSums<'_> {
             let centre = c0 + h * c1;
             let across = y * c2;
             let cell = self.a_eff * pair.cell;
-            let law = pair_law(pair.chord);
+            let law = film.strip_cell_law(pair.chord);
             let tr_minus = (self.q * pair.weight_minus)
                 * law.cell_mean(centre - across, self.slip_change(-y, root, cell));
             let tr_plus = (self.q * pair.weight_plus)
@@ -686,7 +734,7 @@ mod tests {
             c: [s0 * t_hat, Vector3::zeros(), (g / a) * t_hat],
         };
         let (f, _, _) = if cells {
-            sums.sum_cells(|chord| film.strip_cell_law(chord))
+            sums.sum_cells(&film)
         } else {
             sums.sum(|chord| film.strip_law(chord), |l, s| l.mu_over_s(s))
         };
@@ -887,7 +935,7 @@ mod tests {
             let u = Vector3::new(alpha.sin(), 0.1 * f.sin(), alpha.cos()).normalize();
             let t = u.cross(&Vector3::new(0.3, 1.0, -0.2)).normalize();
             let q = 20.0 * f;
-            let new = strip_traction(&race, &ring, &ball, &p, q, 0.0, &u, &t);
+            let new = strip_traction(&race, &ring, &ball, &p, &ContactLoad::new(q, 0.0), &u, &t);
             let old = reference_strip_traction(&race, &ring, &ball, &p, q, &u, &t);
             let ms = q * race.ball_radius;
             for (name, a, b, scale) in [

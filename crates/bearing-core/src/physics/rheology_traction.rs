@@ -72,6 +72,8 @@ pub struct RheologyTraction {
     /// `(pi/4) p0 / Q^(1/3)`: the centre strip's mean pressure per cube-root load,
     /// Pa/N^(1/3).
     p_strip_coef: f64,
+    /// `ln` [`FILM_SPEED_FLOOR`] (m/s).
+    ln_speed_floor: f64,
 }
 
 impl RheologyTraction {
@@ -97,6 +99,7 @@ impl RheologyTraction {
             z: r.z,
             h_coef,
             p_strip_coef: 0.25 * PI * p0_coef,
+            ln_speed_floor: FILM_SPEED_FLOOR.ln(),
         }
     }
 
@@ -107,20 +110,28 @@ impl RheologyTraction {
     /// docs/lab/benchmarks.md).
     #[inline]
     pub fn film_thickness(&self, q: f64, um: f64) -> f64 {
-        self.h_coef * exp(0.67 * um.max(FILM_SPEED_FLOOR).ln() - 0.067 * q.ln())
+        self.film_thickness_ln(q, um.max(FILM_SPEED_FLOOR).ln())
+    }
+
+    /// [`RheologyTraction::film_thickness`] given `ln_um`, the logarithm of the entrainment
+    /// speed (m/s) floored anywhere up to [`FILM_SPEED_FLOOR`]; the law floors it there.
+    #[inline]
+    fn film_thickness_ln(&self, q: f64, ln_um: f64) -> f64 {
+        self.h_coef * exp(0.67 * ln_um.max(self.ln_speed_floor) - 0.067 * q.ln())
     }
 
     /// The law at load `q` (N, > 0) and entrainment speed `um` (m/s).
     #[inline]
     pub fn at(&self, q: f64, um: f64) -> ContactRheology {
-        self.at_load(q, cube_root(q), um)
+        self.at_load(q, cube_root(q), um.max(FILM_SPEED_FLOOR).ln())
     }
 
-    /// [`RheologyTraction::at`] given also the load's cube root `q13 = cube_root(q)`, which
-    /// the strip loop has already computed for the ellipse's size.
+    /// [`RheologyTraction::at`] given the load's cube root `q13 = cube_root(q)` and the
+    /// entrainment speed's logarithm `ln_um` (floored anywhere up to [`FILM_SPEED_FLOOR`]),
+    /// which the contact computes once for the ellipse's size and the rolling resistance.
     #[inline]
-    pub fn at_load(&self, q: f64, q13: f64, um: f64) -> ContactRheology {
-        let h = self.film_thickness(q, um);
+    pub fn at_load(&self, q: f64, q13: f64, ln_um: f64) -> ContactRheology {
+        let h = self.film_thickness_ln(q, ln_um);
         ContactRheology {
             // the strip pressures scale with p0 ~ Q / (a b) ~ Q^(1/3)
             p_centre: self.p_strip_coef * q13,
@@ -540,6 +551,32 @@ mod tests {
             limiting: 0.047,
         };
         RheologyTraction::new(ep, rx, &hz, &r).at(q, um)
+    }
+
+    /// The contact floors the speed's logarithm at the rolling resistance's regularization
+    /// speed, below the film's floor; the law floors it again at its own, which gives the
+    /// film of the speed floored at the film's floor exactly (the logarithm is monotonic),
+    /// on either side of both floors.
+    #[test]
+    fn film_from_the_contacts_logarithm_is_the_films_of_the_speed() {
+        let (rx, ry, ep) = (2.364e-3, 20e-3, 2.286e11);
+        let hz = exact(rx, ry, ep);
+        let r = Rheology {
+            eta0: 4.44e-3,
+            alpha0: 1.5e-8,
+            z: roelands_z(4.44e-3, 1.5e-8),
+            limiting: 0.047,
+        };
+        let law = RheologyTraction::new(ep, rx, &hz, &r);
+        let q = 37.0;
+        for um in [0.0f64, 5e-4, 1e-3, 5e-3, 0.01, 0.0100001, 2.0, 9.21] {
+            let ln_floored = um.max(1e-3).ln();
+            assert_eq!(
+                law.at_load(q, cube_root(q), ln_floored),
+                law.at(q, um),
+                "{um}"
+            );
+        }
     }
 
     /// The local coefficient is the derivative of ln eta (central difference, relative step

@@ -11,9 +11,12 @@
 //! F_R   = (F_IVR - F_EHL) / (1 + M/6.6) + F_EHL
 //! ```
 //! with `k = Ry/Rx`, `U = eta0 u_m / (E' Rx)`, `W = Q / (E' Rx^2)` and `u_m` the mean
-//! surface speed relative to the contact. Powers of 1/3 and 1/4 only: two cube roots and
-//! two square roots per contact.
+//! surface speed relative to the contact. `W^(1/3)` from the load's cube root and the powers
+//! of `U` from `ln u_m`, both of which the contact has computed already (for the ellipse's
+//! size and the film): two exponentials per contact, where two cube roots and two square
+//! roots were 6-9 % of a rheology-law run (perf, 2026-11-29, docs/lab/benchmarks.md).
 
+use super::exp::exp;
 use super::hertz::cube_root;
 use nalgebra::Vector3;
 
@@ -34,6 +37,10 @@ pub struct RollingResistance {
     u_per_speed: f64,
     /// `W / Q = 1 / (E' Rx^2)`, 1/N.
     w_per_load: f64,
+    /// `W^(1/3) / Q^(1/3)`, N^(-1/3).
+    w13_per_q13: f64,
+    /// `ln(U / u_m)`, `ln` of s/m.
+    ln_u_per_speed: f64,
 }
 
 impl RollingResistance {
@@ -49,6 +56,8 @@ impl RollingResistance {
             c_m: 0.5549 * k.powf(-0.6029) / 6.6,
             u_per_speed: eta0 / (e_prime * rx),
             w_per_load: 1.0 / (e_prime * rx * rx),
+            w13_per_q13: cube_root(1.0 / (e_prime * rx * rx)),
+            ln_u_per_speed: (eta0 / (e_prime * rx)).ln(),
         }
     }
 
@@ -58,14 +67,19 @@ impl RollingResistance {
         if q <= 0.0 || um <= 0.0 {
             return 0.0;
         }
+        self.force_given(q, cube_root(q), um.ln())
+    }
+
+    /// [`RollingResistance::force`] at a positive load `q` (N) given its cube root `q13`
+    /// and `ln_um`, the logarithm of the speed (m/s).
+    #[inline(always)]
+    fn force_given(&self, q: f64, q13: f64, ln_um: f64) -> f64 {
         let w = q * self.w_per_load;
-        let u = um * self.u_per_speed;
-        // (the standard library's cube root was 4 % of a rheology-law run: perf, 2026-11-29)
-        let w13 = cube_root(w);
-        let u13 = cube_root(u);
-        let u14 = u.sqrt().sqrt();
-        let u34 = u14 * u14 * u14;
-        let f_ivr = self.c_ivr * w13 * u13 * u13;
+        let w13 = q13 * self.w13_per_q13;
+        let ln_u = ln_um + self.ln_u_per_speed;
+        let u23 = exp((2.0 / 3.0) * ln_u);
+        let u34 = exp(0.75 * ln_u);
+        let f_ivr = self.c_ivr * w13 * u23;
         let f_ehl = self.c_ehl * w13 * u34;
         let m6 = self.c_m * w / u34;
         (f_ivr - f_ehl) / (1.0 + m6) + f_ehl
@@ -75,13 +89,27 @@ impl RollingResistance {
     /// contact), N; linear in `um` below the regularization speed.
     #[inline]
     pub fn force_along(&self, q: f64, um: &Vector3<f64>) -> Vector3<f64> {
-        let s = um.norm();
-        if s >= ENTRAINMENT_REGULARIZATION {
-            (self.force(q, s) / s) * um
-        } else {
-            let r = ENTRAINMENT_REGULARIZATION;
-            (self.force(q, r) / r) * um
+        let speed = um.norm();
+        let floored = speed.max(ENTRAINMENT_REGULARIZATION);
+        self.force_along_given(q, cube_root(q), um, floored, floored.ln())
+    }
+
+    /// [`RollingResistance::force_along`] at a positive load `q` (N) given its cube root
+    /// `q13`, the speed `floored = max(|um|, ENTRAINMENT_REGULARIZATION)` (m/s) and its
+    /// logarithm `ln_floored`, which the contact has computed for the film.
+    #[inline(always)]
+    pub fn force_along_given(
+        &self,
+        q: f64,
+        q13: f64,
+        um: &Vector3<f64>,
+        floored: f64,
+        ln_floored: f64,
+    ) -> Vector3<f64> {
+        if q <= 0.0 {
+            return Vector3::zeros();
         }
+        (self.force_given(q, q13, ln_floored) / floored) * um
     }
 }
 
@@ -117,6 +145,27 @@ mod tests {
         let q = w / r.w_per_load;
         let ivr = r.c_ivr * w.cbrt() * u.powf(2.0 / 3.0);
         assert!((r.force(q, 9.21) - ivr).abs() / ivr < 1e-3);
+    }
+
+    /// The force from the contact's cube root and logarithm is the fit's formula evaluated
+    /// with `powf`, over every load and speed a contact takes: 1e-14, the exponentials'
+    /// and `powf`'s few ulp (of arguments whose logarithms reach 25) and the sums' rounding.
+    #[test]
+    fn shared_logs_give_the_formula_evaluated_with_powers() {
+        let r = inner();
+        let mut worst: f64 = 0.0;
+        for i in 0..=60 {
+            let q = 1e-3 * 10f64.powf(i as f64 / 10.0);
+            for j in 0..=50 {
+                let um = 1e-3 * 10f64.powf(j as f64 / 10.0);
+                let (w, u) = (q * r.w_per_load, um * r.u_per_speed);
+                let f_ivr = r.c_ivr * w.powf(1.0 / 3.0) * u.powf(2.0 / 3.0);
+                let f_ehl = r.c_ehl * w.powf(1.0 / 3.0) * u.powf(0.75);
+                let want = (f_ivr - f_ehl) / (1.0 + r.c_m * w * u.powf(-0.75)) + f_ehl;
+                worst = worst.max((r.force(q, um) - want).abs() / want);
+            }
+        }
+        assert!(worst < 1e-14, "worst relative difference {worst:e}");
     }
 
     #[test]
