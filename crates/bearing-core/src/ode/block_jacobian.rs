@@ -184,7 +184,12 @@ impl BlockJacobian {
                 a[i * s + i] += d;
             }
             let piv = &mut self.pivots[b.clone()];
-            if !lu_in_place(a, s, piv) {
+            let factored = match s {
+                6 => lu_in_place_of::<6>(a, piv),
+                9 => lu_in_place_of::<9>(a, piv),
+                _ => lu_in_place(a, s, piv),
+            };
+            if !factored {
                 return false;
             }
         }
@@ -200,12 +205,16 @@ impl BlockJacobian {
             }
             let s = b.len();
             let base = self.offsets[k];
-            lu_solve(
+            let (lu, piv, x) = (
                 &self.lu[base..base + s * s],
-                s,
                 &self.pivots[b.clone()],
                 &mut x[b.clone()],
             );
+            match s {
+                6 => lu_solve_of::<6>(lu, piv, x),
+                9 => lu_solve_of::<9>(lu, piv, x),
+                _ => lu_solve(lu, s, piv, x),
+            }
         }
     }
 }
@@ -217,8 +226,23 @@ pub fn difference_step(y: f64, scale: f64) -> (f64, f64) {
     (perturbed, perturbed - y)
 }
 
+/// [`lu_in_place`] of an `N x N` block, `N` known when compiling: a ball's velocities (6,
+/// the blocks of `auto_slip` and `slip_implicit`) or a whole ball (9, `rosenbrock_w`). The
+/// same operations in the same order, so the same numbers to the bit; unrolled and without
+/// bounds checks, the factorisations and solves took a sixth of a Table-1 run's
+/// instructions as generic loops (callgrind, 2026-11-29, docs/lab/benchmarks.md).
+fn lu_in_place_of<const N: usize>(a: &mut [f64], piv: &mut [usize]) -> bool {
+    lu_in_place(&mut a[..N * N], N, &mut piv[..N])
+}
+
+/// [`lu_solve`] of an `N x N` block (see [`lu_in_place_of`]).
+fn lu_solve_of<const N: usize>(lu: &[f64], piv: &[usize], x: &mut [f64]) {
+    lu_solve(&lu[..N * N], N, &piv[..N], &mut x[..N])
+}
+
 /// LU factorisation with partial pivoting of the `s x s` row-major `a`, in place;
 /// `piv[i]` is the row swapped with row i at step i.
+#[inline(always)]
 fn lu_in_place(a: &mut [f64], s: usize, piv: &mut [usize]) -> bool {
     for i in 0..s {
         let mut p = i;
@@ -253,6 +277,7 @@ fn lu_in_place(a: &mut [f64], s: usize, piv: &mut [usize]) -> bool {
     true
 }
 
+#[inline(always)]
 fn lu_solve(lu: &[f64], s: usize, piv: &[usize], x: &mut [f64]) {
     for (i, &p) in piv[..s].iter().enumerate() {
         x.swap(i, p);
@@ -338,6 +363,54 @@ mod tests {
                 r[row]
             );
         }
+    }
+
+    /// The fixed-size factorisation and solve give the generic loops' numbers to the bit,
+    /// on 6 x 6 and 9 x 9 blocks whose pivots move rows (a small diagonal, large entries
+    /// below it), so the runs that use them are the same runs.
+    #[test]
+    fn fixed_size_blocks_give_the_generic_numbers_to_the_bit() {
+        fn check<const N: usize>() {
+            let a: Vec<f64> = (0..N * N)
+                .map(|k| {
+                    let (r, c) = (k / N, k % N);
+                    let v = ((r * 7 + c * 13) % 11) as f64 - 5.0 + 0.1 * (r as f64 - c as f64);
+                    if r == c {
+                        1e-3 * v
+                    } else {
+                        v
+                    }
+                })
+                .collect();
+            let (mut generic, mut fixed) = (a.clone(), a.clone());
+            let (mut piv_g, mut piv_f) = (vec![0; N], vec![0; N]);
+            assert!(lu_in_place(&mut generic, N, &mut piv_g));
+            assert!(lu_in_place_of::<N>(&mut fixed, &mut piv_f));
+            assert_eq!(piv_g, piv_f);
+            assert!(
+                piv_g.iter().enumerate().any(|(i, &p)| p != i),
+                "no row moved"
+            );
+            assert!(generic
+                .iter()
+                .zip(&fixed)
+                .all(|(g, f)| g.to_bits() == f.to_bits()));
+            let r: Vec<f64> = (0..N).map(|i| 1.0 + i as f64 * 0.37).collect();
+            let (mut x_g, mut x_f) = (r.clone(), r.clone());
+            lu_solve(&generic, N, &piv_g, &mut x_g);
+            lu_solve_of::<N>(&fixed, &piv_f, &mut x_f);
+            assert!(x_g
+                .iter()
+                .zip(&x_f)
+                .all(|(g, f)| g.to_bits() == f.to_bits()));
+            // and it is a solve: A x = r to rounding (entries below 10, x of order 1)
+            for (i, want) in r.iter().enumerate() {
+                let got: f64 = (0..N).map(|c| a[i * N + c] * x_f[c]).sum();
+                assert!((got - want).abs() < 1e-10, "row {i}: {got} vs {want}");
+            }
+        }
+        check::<6>();
+        check::<9>();
     }
 
     /// A partial Jacobian evaluates only its grouped columns: a block without one stays
