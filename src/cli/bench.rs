@@ -98,11 +98,13 @@ pub enum BenchWhat {
     /// Where the stiffness is: the largest eigenvalues of the Jacobian at states of a run,
     /// whole and with each ball's velocity block, each ball's block or every body's block
     /// taken out (as an integrator exact on them would), and RK4's stable step on each.
+    // the scene's --duration is not read (--at is): hidden from the help
+    #[command(mut_arg("duration", |a| a.hide(true)))]
     Stiffness {
         #[command(flatten)]
         on: ComparisonArgs,
         /// Times of the run to look at, 0 to 10 s (0: its initial state); each is reached by
-        /// running the scene to it (`--duration` is not read).
+        /// running the scene to it.
         #[arg(long, value_delimiter = ',', default_values_t = vec![0.05, 0.3])]
         at: Vec<f64>,
         /// Eigenvalues to print per part, largest magnitude first.

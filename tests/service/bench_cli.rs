@@ -199,4 +199,21 @@ fn stiffness_prints_each_part_at_each_state() {
     ] {
         refused(&["stiffness", arg], says);
     }
+
+    // the scene's --duration is not read (--at gives the times), so the help does not
+    // offer it; the other benches that share the scene flags still do
+    let help = |what: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+            .args(["bench", what, "--help"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let stiffness = help("stiffness");
+    assert!(
+        stiffness.contains("--at") && !stiffness.contains("--duration"),
+        "{stiffness}"
+    );
+    assert!(help("work-precision").contains("--duration"));
 }
