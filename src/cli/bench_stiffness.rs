@@ -20,7 +20,11 @@ pub fn stiffness(on: &ComparisonArgs, at: &[f64], count: usize) -> CliResult {
     if !(1..=50).contains(&count) {
         return Err(format!("--count: 1 to 50 eigenvalues (got {count})").into());
     }
-    let scene = comparison_scene(on)?.validated()?;
+    let mut scene = comparison_scene(on)?;
+    // each state is reached by running to it, so the scene's own duration (the hidden
+    // `--duration`) is not read and not checked: any valid one will do
+    scene.solver.duration = at.iter().copied().fold(0.05, f64::max);
+    let scene = scene.validated()?;
     for &t in at {
         let report = stiffness_at(&scene, t, count)?;
         println!(

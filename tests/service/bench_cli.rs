@@ -216,4 +216,17 @@ fn stiffness_prints_each_part_at_each_state() {
         "{stiffness}"
     );
     assert!(help("work-precision").contains("--duration"));
+    // and not checked either: a duration the others would refuse changes nothing here
+    let (zero, _) = bench(&[
+        "stiffness",
+        "--fault",
+        "none",
+        "--at",
+        "0",
+        "--count",
+        "2",
+        "--duration",
+        "0",
+    ]);
+    assert_eq!(zero, table);
 }

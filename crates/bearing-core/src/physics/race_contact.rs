@@ -4,7 +4,7 @@
 use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
-use super::rheology_traction::ContactRheology;
+use super::rheology_traction::{ContactRheology, FILM_SPEED_FLOOR};
 use super::rolling_resistance::{RollingResistance, ENTRAINMENT_REGULARIZATION};
 use super::strips::Strips;
 use super::traction::TractionLaw;
@@ -314,13 +314,21 @@ pub struct ContactLoad {
     pub q13: f64,
     /// Entrainment speed, m/s.
     pub speed: f64,
-    /// The speed floored at [`ENTRAINMENT_REGULARIZATION`], m/s (>= every law's floor for
-    /// its logarithm, which [`RheologyTraction`](super::rheology_traction::RheologyTraction)
-    /// floors again at its own).
+    /// The speed floored at [`ENTRAINMENT_REGULARIZATION`], m/s: at or below every law's
+    /// own floor, which [`RheologyTraction`](super::rheology_traction::RheologyTraction)
+    /// applies again to the logarithm.
     pub floored: f64,
-    /// `ln` of `floored` (NaN from [`ContactLoad::without_entrainment`]).
+    /// `ln` of `floored` (of m/s).
     pub ln_floored: f64,
 }
+
+/// `ln` [`ENTRAINMENT_REGULARIZATION`] (of m/s), what [`ContactLoad::without_entrainment`]
+/// holds (tested against `f64::ln`).
+const LN_ENTRAINMENT_REGULARIZATION: f64 = -6.907_755_278_982_137;
+
+// the film's logarithm is the contact's floored again at the film's floor (see `floored`),
+// which gives the film's own only if the contact's floor is the lower
+const _: () = assert!(ENTRAINMENT_REGULARIZATION <= FILM_SPEED_FLOOR);
 
 impl ContactLoad {
     /// At load `q` (N, > 0) and entrainment speed `speed` (m/s).
@@ -337,7 +345,8 @@ impl ContactLoad {
     }
 
     /// At load `q` (N, > 0) where no law reads the entrainment (the traction curve without
-    /// rolling resistance): its logarithm is not taken, and NaN says so to any reader.
+    /// rolling resistance): a zero speed, as the contact took before it shared the
+    /// logarithm, without taking one.
     #[inline(always)]
     pub fn without_entrainment(q: f64) -> ContactLoad {
         ContactLoad {
@@ -345,7 +354,7 @@ impl ContactLoad {
             q13: cube_root(q),
             speed: 0.0,
             floored: ENTRAINMENT_REGULARIZATION,
-            ln_floored: f64::NAN,
+            ln_floored: LN_ENTRAINMENT_REGULARIZATION,
         }
     }
 }
@@ -379,7 +388,7 @@ fn entrainment_velocity(
 /// its centre; the ring takes the opposite net force at the contact, so momentum is kept.
 ///
 /// Always inlined, so it is compiled into the contact's AVX2 copy too: as a call it ran
-/// baseline code, 5-9 % of a Table-1 run (perf, 2026-11-29).
+/// baseline code, 8.9 % of a Table-1 run (perf, 2026-11-29).
 #[inline(always)]
 fn rolling_resistance(
     rr: &RollingResistance,
@@ -400,7 +409,6 @@ fn rolling_resistance(
 /// `t` (its entrainment speed read by the film laws only), by strips across the
 /// ellipse's major axis (eqs. 9-16): the force on the ball (N), its moment about the ball
 /// centre and the reaction's moment about the ring centre (N m).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn strip_traction(
     race: &Race,
@@ -536,9 +544,9 @@ impl StripSums<'_> {
     }
 
     /// [`StripSums::sum`] with each strip's law averaged over its cell
-    /// ([`cell_mean`](super::rheology_traction::StripCellLaw::cell_mean)): the slip at `y` changes along the strip line by
-    /// `dv/dy = h'(y) c1 + c2`, `h'(y) = -y / sqrt(r'^2 - y^2)`, so across the cell by
-    /// `dv/dy a cell`. Given the contact's film rather than a closure making each pair's law
+    /// ([`cell_mean`](super::rheology_traction::StripCellLaw::cell_mean)): the slip at `y`
+    /// changes along the strip line by `dv/dy = h'(y) c1 + c2`,
+    /// `h'(y) = -y / sqrt(r'^2 - y^2)`, so across the cell by `dv/dy a cell`. Given the contact's film rather than a closure making each pair's law
     /// of it: as a closure the film was compiled out of line for the baseline processor and
     /// called from the AVX2 copy of the contact, 11 % of a Table-1 run (perf, 2026-11-29).
     #[inline(always)]
@@ -906,6 +914,33 @@ mod tests {
             velocity: Vector3::zeros(),
             omega,
         }
+    }
+
+    /// The contact floors the speed's logarithm at the rolling resistance's regularization
+    /// speed, below the film's floor; the film law floors it again at its own, which gives
+    /// the film of the speed floored at the film's floor exactly (the logarithm is
+    /// monotonic), on either side of both floors. And the constant logarithm of a contact
+    /// without entrainment is the floor's.
+    #[test]
+    fn film_from_the_contacts_logarithm_is_the_films_of_the_speed() {
+        let (rx, ry, ep) = (2.364e-3, 20e-3, 2.286e11);
+        let oil = oil();
+        let law = RheologyTraction::new(ep, rx, &crate::physics::hertz::exact(rx, ry, ep), &oil);
+        let q = 37.0;
+        for um in [0.0, 5e-4, 1e-3, 5e-3, 0.01, 0.0100001, 2.0, 9.21] {
+            let load = ContactLoad::new(q, um);
+            assert_eq!(
+                law.at_load(q, load.q13, load.ln_floored),
+                law.at(q, um),
+                "{um}"
+            );
+        }
+        assert_eq!(
+            LN_ENTRAINMENT_REGULARIZATION,
+            ENTRAINMENT_REGULARIZATION.ln()
+        );
+        let still = ContactLoad::without_entrainment(q);
+        assert_eq!(still.ln_floored, still.floored.ln());
     }
 
     #[test]

@@ -553,32 +553,6 @@ mod tests {
         RheologyTraction::new(ep, rx, &hz, &r).at(q, um)
     }
 
-    /// The contact floors the speed's logarithm at the rolling resistance's regularization
-    /// speed, below the film's floor; the law floors it again at its own, which gives the
-    /// film of the speed floored at the film's floor exactly (the logarithm is monotonic),
-    /// on either side of both floors.
-    #[test]
-    fn film_from_the_contacts_logarithm_is_the_films_of_the_speed() {
-        let (rx, ry, ep) = (2.364e-3, 20e-3, 2.286e11);
-        let hz = exact(rx, ry, ep);
-        let r = Rheology {
-            eta0: 4.44e-3,
-            alpha0: 1.5e-8,
-            z: roelands_z(4.44e-3, 1.5e-8),
-            limiting: 0.047,
-        };
-        let law = RheologyTraction::new(ep, rx, &hz, &r);
-        let q = 37.0;
-        for um in [0.0f64, 5e-4, 1e-3, 5e-3, 0.01, 0.0100001, 2.0, 9.21] {
-            let ln_floored = um.max(1e-3).ln();
-            assert_eq!(
-                law.at_load(q, cube_root(q), ln_floored),
-                law.at(q, um),
-                "{um}"
-            );
-        }
-    }
-
     /// The local coefficient is the derivative of ln eta (central difference, relative step
     /// 1e-5: truncation ~1e-10, rounding ~1e-11 of alpha), and equals alpha0 at zero pressure.
     #[test]

@@ -12,9 +12,10 @@
 //! ```
 //! with `k = Ry/Rx`, `U = eta0 u_m / (E' Rx)`, `W = Q / (E' Rx^2)` and `u_m` the mean
 //! surface speed relative to the contact. `W^(1/3)` from the load's cube root and the powers
-//! of `U` from `ln u_m`, both of which the contact has computed already (for the ellipse's
-//! size and the film): two exponentials per contact, where two cube roots and two square
-//! roots were 6-9 % of a rheology-law run (perf, 2026-11-29, docs/lab/benchmarks.md).
+//! of `U` from `ln u_m`, which the contact computes once for all its laws (the cube root for
+//! the ellipse's size, the logarithm for the rheology law's film too): two exponentials per
+//! contact, where two cube roots and two square roots were out of line and 8.9 % of a
+//! rheology-law run (perf, 2026-11-29, docs/lab/benchmarks.md).
 
 use super::exp::exp;
 use super::hertz::cube_root;
@@ -33,8 +34,6 @@ pub struct RollingResistance {
     c_ehl: f64,
     /// `0.5549 k^-0.6029 / 6.6`, -.
     c_m: f64,
-    /// `U / u_m = eta0 / (E' Rx)`, s/m.
-    u_per_speed: f64,
     /// `W / Q = 1 / (E' Rx^2)`, 1/N.
     w_per_load: f64,
     /// `W^(1/3) / Q^(1/3)`, N^(-1/3).
@@ -54,7 +53,6 @@ impl RollingResistance {
             c_ivr: 2.9766 * scale * k.powf(0.3316),
             c_ehl: 7.5826 * scale * k.powf(0.4055),
             c_m: 0.5549 * k.powf(-0.6029) / 6.6,
-            u_per_speed: eta0 / (e_prime * rx),
             w_per_load: 1.0 / (e_prime * rx * rx),
             w13_per_q13: cube_root(1.0 / (e_prime * rx * rx)),
             ln_u_per_speed: (eta0 / (e_prime * rx)).ln(),
@@ -148,8 +146,10 @@ mod tests {
     }
 
     /// The force from the contact's cube root and logarithm is the fit's formula evaluated
-    /// with `powf`, over every load and speed a contact takes: 1e-14, the exponentials'
-    /// and `powf`'s few ulp (of arguments whose logarithms reach 25) and the sums' rounding.
+    /// with `powf`, from 1 mN to 1 kN and from 1 mm/s to 100 m/s: 1e-14. `ln U` runs from
+    /// -32 to -21 there, so its half-ulp rounding moves `U^(3/4)` by about
+    /// `0.75 x 32 x 1.1e-16 = 2.7e-15`; the exponentials, `powf` and the sums add a few
+    /// ulp.
     #[test]
     fn shared_logs_give_the_formula_evaluated_with_powers() {
         let r = inner();
@@ -158,7 +158,8 @@ mod tests {
             let q = 1e-3 * 10f64.powf(i as f64 / 10.0);
             for j in 0..=50 {
                 let um = 1e-3 * 10f64.powf(j as f64 / 10.0);
-                let (w, u) = (q * r.w_per_load, um * r.u_per_speed);
+                // U / u_m = eta0 / (E' Rx) of `inner()`
+                let (w, u) = (q * r.w_per_load, um * 4.44e-3 / (228.6e9 * 2.364e-3));
                 let f_ivr = r.c_ivr * w.powf(1.0 / 3.0) * u.powf(2.0 / 3.0);
                 let f_ehl = r.c_ehl * w.powf(1.0 / 3.0) * u.powf(0.75);
                 let want = (f_ivr - f_ehl) / (1.0 + r.c_m * w * u.powf(-0.75)) + f_ehl;
