@@ -83,6 +83,8 @@ pub struct StiffnessReport {
     pub t: f64,
     /// Its Jacobian, `d f_i / d y_j`, by central differences.
     pub jacobian: DMatrix<f64>,
+    /// The largest eigenvalues of the Jacobian, whole and with each [`Removed`] part taken
+    /// out, in [`Removed::ALL`]'s order.
     pub parts: Vec<PartSpectrum>,
 }
 

@@ -94,7 +94,7 @@ impl RollingResistance {
 
     /// [`RollingResistance::force_along`] at a positive load `q` (N) given its cube root
     /// `q13`, the speed `floored = max(|um|, ENTRAINMENT_REGULARIZATION)` (m/s) and its
-    /// logarithm `ln_floored`, which the contact has computed for the film.
+    /// logarithm `ln_floored`, which the contact computes once for all its laws.
     #[inline(always)]
     pub fn force_along_given(
         &self,
