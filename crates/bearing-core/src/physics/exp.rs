@@ -16,12 +16,12 @@ use std::f64::consts::LN_2;
 
 /// `ln 2 / 64` in two parts (fdlibm's split of `ln 2`, divided by 64, which is exact): the
 /// high part has 32 significant bits, so `n * LN2_64_HI` is exact for every `|n| < 2^20`.
-const LN2_64_HI: f64 = 6.931_471_803_691_238e-1 / 64.0;
-const LN2_64_LO: f64 = 1.908_214_929_270_587_7e-10 / 64.0;
+pub(crate) const LN2_64_HI: f64 = 6.931_471_803_691_238e-1 / 64.0;
+pub(crate) const LN2_64_LO: f64 = 1.908_214_929_270_587_7e-10 / 64.0;
 
 /// `1.5 * 2^52`: adding it to a number below 2^51 rounds it to an integer, which then sits
 /// in the low bits of the sum's mantissa.
-const ROUNDING_SHIFT: f64 = 6_755_399_441_055_744.0;
+pub(crate) const ROUNDING_SHIFT: f64 = 6_755_399_441_055_744.0;
 
 /// Arguments are clamped to this magnitude, so `2^m 2^(j/64)` stays a normal number.
 pub const EXP_ARG_LIMIT: f64 = 700.0;
@@ -55,7 +55,7 @@ pub fn exp(x: f64) -> f64 {
 }
 
 /// `2^(j/64)` as f64 bits, correctly rounded (printed by `scripts/fixtures/exp_table.py`).
-const EXP2_TABLE: [u64; 64] = [
+pub(crate) const EXP2_TABLE: [u64; 64] = [
     0x3ff0000000000000, // 2^(0/64)
     0x3ff02c9a3e778061, // 2^(1/64)
     0x3ff059b0d3158574, // 2^(2/64)

@@ -133,14 +133,19 @@ pub fn cube_root(x: f64) -> f64 {
     if !(f64::MIN_POSITIVE..f64::INFINITY).contains(&x) {
         return x.cbrt();
     }
-    // a third of the biased exponent (and mantissa bits), re-biased
-    let bits = x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE;
-    let mut y = f64::from_bits(bits);
+    let mut y = cube_root_start(x);
     for _ in 0..3 {
         let y3 = y * y * y;
         y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
     }
     y
+}
+
+/// [`cube_root`]'s start for a positive normal `x`: a third of the biased exponent (and
+/// mantissa bits), re-biased.
+#[inline(always)]
+pub(crate) fn cube_root_start(x: f64) -> f64 {
+    f64::from_bits(x.to_bits() / 3 + 0x2A9F_7893_782D_A1CE)
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ pub mod exp;
 pub mod frames;
 pub mod hertz;
 pub mod kinematics;
+pub mod lanes;
 pub mod race_contact;
 pub mod rheology_traction;
 pub mod rolling_resistance;

@@ -1,0 +1,389 @@
+//! Four numbers side by side: what lets four ball-race contacts run as one
+//! ([`super::race_contact_lanes`]).
+//!
+//! Why: one contact is a chain of dependent square roots, divisions, logarithms and
+//! exponentials, about 16 of them, each waiting on the last (docs/lab/benchmarks.md, "One
+//! evaluation's cost"). Four contacts in the lanes of one vector wait on that chain once.
+//! The operations are plain loops over `[f64; 4]`, which the compiler turns into vector
+//! instructions in the contact's AVX2 copy (and into SSE2 pairs in the baseline one);
+//! `ln` and `exp` are written here, as libm's are one call per number.
+
+use super::exp::{EXP2_TABLE, EXP_ARG_LIMIT, LN2_64_HI, LN2_64_LO, ROUNDING_SHIFT};
+use super::hertz::cube_root_start;
+use std::f64::consts::LN_2;
+use std::ops::{Add, Div, Mul, Sub};
+
+/// Lanes per vector: four `f64` fill an AVX2 register.
+pub const LANES: usize = 4;
+
+/// Four `f64`, one per contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(32))]
+pub struct F64x4(pub [f64; LANES]);
+
+/// Four booleans, one per contact.
+pub type Mask4 = [bool; LANES];
+
+impl F64x4 {
+    /// Every lane `x`.
+    #[inline(always)]
+    pub fn splat(x: f64) -> F64x4 {
+        F64x4([x; LANES])
+    }
+
+    /// `f` of each lane.
+    #[inline(always)]
+    pub fn map(self, f: impl Fn(f64) -> f64) -> F64x4 {
+        F64x4([f(self.0[0]), f(self.0[1]), f(self.0[2]), f(self.0[3])])
+    }
+
+    /// `f` of each pair of lanes.
+    #[inline(always)]
+    pub fn zip(self, o: F64x4, f: impl Fn(f64, f64) -> f64) -> F64x4 {
+        F64x4([
+            f(self.0[0], o.0[0]),
+            f(self.0[1], o.0[1]),
+            f(self.0[2], o.0[2]),
+            f(self.0[3], o.0[3]),
+        ])
+    }
+
+    /// The square root of each lane.
+    #[inline(always)]
+    pub fn sqrt(self) -> F64x4 {
+        self.map(f64::sqrt)
+    }
+
+    /// The larger of each pair of lanes (`o`'s where `self` is NaN, as `f64::max`).
+    #[inline(always)]
+    pub fn max(self, o: F64x4) -> F64x4 {
+        self.zip(o, |a, b| if a > b { a } else { b })
+    }
+
+    /// The smaller of each pair of lanes (`o`'s where `self` is NaN, as `f64::min`).
+    #[inline(always)]
+    pub fn min(self, o: F64x4) -> F64x4 {
+        self.zip(o, |a, b| if a < b { a } else { b })
+    }
+
+    /// Lane by lane, `a` where `mask`, else `b`.
+    #[inline(always)]
+    pub fn select(mask: Mask4, a: F64x4, b: F64x4) -> F64x4 {
+        F64x4([
+            if mask[0] { a.0[0] } else { b.0[0] },
+            if mask[1] { a.0[1] } else { b.0[1] },
+            if mask[2] { a.0[2] } else { b.0[2] },
+            if mask[3] { a.0[3] } else { b.0[3] },
+        ])
+    }
+
+    /// Lane by lane `self < o`.
+    #[inline(always)]
+    pub fn lt(self, o: F64x4) -> Mask4 {
+        [
+            self.0[0] < o.0[0],
+            self.0[1] < o.0[1],
+            self.0[2] < o.0[2],
+            self.0[3] < o.0[3],
+        ]
+    }
+
+    /// Lane by lane `self <= o`.
+    #[inline(always)]
+    pub fn le(self, o: F64x4) -> Mask4 {
+        [
+            self.0[0] <= o.0[0],
+            self.0[1] <= o.0[1],
+            self.0[2] <= o.0[2],
+            self.0[3] <= o.0[3],
+        ]
+    }
+
+    /// `ln x` of each lane, for positive normal `x`; within 2 ulp of `f64::ln` over the
+    /// range the contact takes (tested). Table-free, so the four lanes share every
+    /// instruction: `x = 2^e m` with `m` in `[sqrt(1/2), sqrt(2))`, and
+    /// `ln m = 2 atanh(s)` with `s = (m - 1)/(m + 1)`, `|s| <= 0.172`, by its series
+    /// `2 s (1 + s^2/3 + s^4/5 + ...)` to `s^20/21` (the next term is below 1e-18 of the
+    /// sum). `x` must be positive and normal (the contact's loads, speeds floored at
+    /// 1e-3 m/s, pressure ratios and `asinh` arguments are): the sign bit would go into
+    /// the exponent.
+    #[inline(always)]
+    pub fn ln(self) -> F64x4 {
+        // the biased exponent as the low bits of 2^52's mantissa, the mantissa in [1, 2):
+        // bit operations the lanes share
+        let mut exponent = [0.0; LANES];
+        let mut mantissa = [0.0; LANES];
+        for l in 0..LANES {
+            let bits = self.0[l].to_bits();
+            exponent[l] = f64::from_bits((bits >> 52) | 0x4330_0000_0000_0000);
+            mantissa[l] = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+        }
+        let e = F64x4(exponent) - F64x4::splat(4_503_599_627_370_496.0 + 1023.0);
+        let mantissa = F64x4(mantissa);
+        // into [sqrt(1/2), sqrt(2))
+        let high = F64x4::splat(std::f64::consts::SQRT_2).lt(mantissa);
+        let m = F64x4::select(high, 0.5 * mantissa, mantissa);
+        let e = e + F64x4::select(high, F64x4::splat(1.0), F64x4::splat(0.0));
+        ln_reduced(e, m, m - F64x4::splat(1.0))
+    }
+
+    /// `ln(1 + w)` of each lane for `w >= 0`, accurate where `w` is small: `ln u` of
+    /// `u = 1 + w` (rounded) corrected by `(w - (u - 1)) / u`, the first-order change of
+    /// `ln` over what the rounding lost.
+    #[inline(always)]
+    pub fn ln_1p(self) -> F64x4 {
+        let one = F64x4::splat(1.0);
+        let u = one + self;
+        u.ln() + (self - (u - one)) / u
+    }
+
+    /// `e^x` of each lane: the contact's own [`exp`](super::exp::exp) stage by stage, so
+    /// that all but its table's reads run in the lanes; the same numbers, to the bit
+    /// (tested).
+    #[inline(always)]
+    pub fn exp(self) -> F64x4 {
+        // clamped as `exp` clamps, passing NaN through
+        #[allow(clippy::manual_clamp)]
+        let x = self.map(|x| {
+            if x < -EXP_ARG_LIMIT {
+                -EXP_ARG_LIMIT
+            } else if x > EXP_ARG_LIMIT {
+                EXP_ARG_LIMIT
+            } else {
+                x
+            }
+        });
+        let shift = F64x4::splat(ROUNDING_SHIFT);
+        let shifted = (64.0 / LN_2) * x + shift;
+        let nf = shifted - shift;
+        let r = (x - LN2_64_HI * nf) - LN2_64_LO * nf;
+        let scale = shifted.map(|shifted| {
+            let n = (shifted.to_bits() as i64).wrapping_sub(ROUNDING_SHIFT.to_bits() as i64);
+            let (j, m) = ((n & 63) as usize, n >> 6);
+            f64::from_bits(EXP2_TABLE[j].wrapping_add((m as u64) << 52))
+        });
+        let r2 = r * r;
+        let q = r
+            + r2 * (F64x4::splat(0.5) + (1.0 / 6.0) * r)
+            + (r2 * r2) * (F64x4::splat(1.0 / 24.0) + (1.0 / 120.0) * r);
+        scale + scale * q
+    }
+
+    /// [`cube_root`](super::hertz::cube_root) of each lane, for positive normal numbers:
+    /// its start lane by lane, its three Halley steps in the lanes; the same numbers, to
+    /// the bit (tested).
+    #[inline(always)]
+    pub fn cube_root(self) -> F64x4 {
+        let x = self;
+        let mut y = x.map(cube_root_start);
+        for _ in 0..3 {
+            let y3 = y * y * y;
+            y = y * ((y3 + 2.0 * x) / (2.0 * y3 + x));
+        }
+        y
+    }
+}
+
+/// `ln 2` in two parts: the high part has 32 significant bits, so `e * LN2_HI` is exact
+/// for every exponent `|e| < 2^20`.
+const LN2_HI: f64 = 6.931_471_803_691_238e-1;
+const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
+
+/// `1 / (2 k + 1)` for k = 1..10: the coefficients of `atanh(s) / s - 1` in powers of `s^2`.
+const ATANH_SERIES: [f64; 10] = [
+    1.0 / 3.0,
+    1.0 / 5.0,
+    1.0 / 7.0,
+    1.0 / 9.0,
+    1.0 / 11.0,
+    1.0 / 13.0,
+    1.0 / 15.0,
+    1.0 / 17.0,
+    1.0 / 19.0,
+    1.0 / 21.0,
+];
+
+/// `e ln 2 + ln m` for `m` in `[sqrt(1/2), sqrt(2))`, given `m - 1` (exact there).
+#[inline(always)]
+fn ln_reduced(e: F64x4, m: F64x4, m_minus_1: F64x4) -> F64x4 {
+    let s = m_minus_1 / (m + F64x4::splat(1.0));
+    let s2 = s * s;
+    // 1/3 + s2/5 + ... + s2^9/21, by Horner from the smallest term
+    let mut p = F64x4::splat(ATANH_SERIES[9]);
+    for c in ATANH_SERIES[..9].iter().rev() {
+        p = p * s2 + F64x4::splat(*c);
+    }
+    // 2s + 2s s2 p: the small part first, then the exact multiple of ln 2's high part
+    let two_s = s + s;
+    let small = two_s * s2 * p + e * F64x4::splat(LN2_LO);
+    e * F64x4::splat(LN2_HI) + (two_s + small)
+}
+
+macro_rules! lanewise {
+    ($trait:ident, $method:ident, $op:tt) => {
+        impl $trait for F64x4 {
+            type Output = F64x4;
+            #[inline(always)]
+            fn $method(self, o: F64x4) -> F64x4 {
+                F64x4([
+                    self.0[0] $op o.0[0],
+                    self.0[1] $op o.0[1],
+                    self.0[2] $op o.0[2],
+                    self.0[3] $op o.0[3],
+                ])
+            }
+        }
+    };
+}
+lanewise!(Add, add, +);
+lanewise!(Sub, sub, -);
+lanewise!(Mul, mul, *);
+lanewise!(Div, div, /);
+
+impl Mul<F64x4> for f64 {
+    type Output = F64x4;
+    #[inline(always)]
+    fn mul(self, o: F64x4) -> F64x4 {
+        F64x4::splat(self) * o
+    }
+}
+
+impl Add for Vec3x4 {
+    type Output = Vec3x4;
+    #[inline(always)]
+    fn add(self, o: Vec3x4) -> Vec3x4 {
+        Vec3x4 {
+            x: self.x + o.x,
+            y: self.y + o.y,
+            z: self.z + o.z,
+        }
+    }
+}
+
+impl Sub for Vec3x4 {
+    type Output = Vec3x4;
+    #[inline(always)]
+    fn sub(self, o: Vec3x4) -> Vec3x4 {
+        Vec3x4 {
+            x: self.x - o.x,
+            y: self.y - o.y,
+            z: self.z - o.z,
+        }
+    }
+}
+
+/// Three components of four vectors, one vector per lane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Vec3x4 {
+    pub x: F64x4,
+    pub y: F64x4,
+    pub z: F64x4,
+}
+
+impl Vec3x4 {
+    pub const ZERO: Vec3x4 = Vec3x4 {
+        x: F64x4([0.0; LANES]),
+        y: F64x4([0.0; LANES]),
+        z: F64x4([0.0; LANES]),
+    };
+
+    /// Each lane's vector times that lane's `s`.
+    #[inline(always)]
+    pub fn scale(self, s: F64x4) -> Vec3x4 {
+        Vec3x4 {
+            x: s * self.x,
+            y: s * self.y,
+            z: s * self.z,
+        }
+    }
+
+    #[inline(always)]
+    pub fn norm_squared(self) -> F64x4 {
+        self.x * self.x + self.y * self.y + self.z * self.z
+    }
+
+    /// Lane `l`'s vector.
+    #[inline(always)]
+    pub fn lane(&self, l: usize) -> nalgebra::Vector3<f64> {
+        nalgebra::Vector3::new(self.x.0[l], self.y.0[l], self.z.0[l])
+    }
+
+    /// Sets lane `l`'s vector.
+    #[inline(always)]
+    pub fn set_lane(&mut self, l: usize, v: &nalgebra::Vector3<f64>) {
+        self.x.0[l] = v.x;
+        self.y.0[l] = v.y;
+        self.z.0[l] = v.z;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// How many representable numbers apart `a` and `b` are (of one sign).
+    fn ulps(a: f64, b: f64) -> f64 {
+        assert_eq!(a.is_sign_negative(), b.is_sign_negative(), "{a} {b}");
+        (a.to_bits() as i64 - b.to_bits() as i64).abs() as f64
+    }
+
+    /// Within 2 ulp of libm's `ln` (and of `ln_1p`) over every decade a contact's load,
+    /// speed, pressure ratio and `asinh` argument take, and beyond. This is measured, not
+    /// derived: against exact values these reach about 2 ulp (`ln`) and 2.4 ulp (`ln_1p`;
+    /// checked with mpmath by the review of 2026-11-30), libm's about half an ulp.
+    #[test]
+    fn ln_is_the_library_ln_to_two_ulp() {
+        let mut worst: f64 = 0.0;
+        for e in -300..300 {
+            for k in 0..500 {
+                let x = (1.0 + k as f64 / 500.0) * 10f64.powi(e);
+                let got = F64x4([x, 2.0 * x, 0.5 * x, 1.1 * x]).ln();
+                for (l, want) in [x, 2.0 * x, 0.5 * x, 1.1 * x].iter().enumerate() {
+                    if want.ln() != 0.0 {
+                        worst = worst.max(ulps(got.0[l], want.ln()));
+                    }
+                }
+            }
+        }
+        assert!(worst <= 2.0, "worst {worst} ulp");
+        // ln 1 is 0 exactly
+        assert_eq!(F64x4::splat(1.0).ln().0[0], 0.0);
+        let mut worst: f64 = 0.0;
+        for k in 1..20000 {
+            let w = k as f64 * 1e-5 * (1.0 + 1e-3 * (k % 7) as f64);
+            for w in [w, w * 1e-3, w * 10.0, w * 1e4] {
+                let got = F64x4::splat(w).ln_1p().0[0];
+                worst = worst.max(ulps(got, w.ln_1p()));
+            }
+        }
+        assert!(worst <= 2.0, "ln_1p: worst {worst} ulp");
+    }
+
+    /// The lanes' `exp` and cube root are the scalar ones stage by stage: equal to the bit,
+    /// over the exponential's whole range (clamped beyond it, NaN passed) and every decade
+    /// of load.
+    #[test]
+    fn exp_and_cube_root_are_the_scalar_ones_to_the_bit() {
+        for k in -2000..2000 {
+            let x = k as f64 * 0.3712;
+            let lanes = F64x4([x, -x, x * 1e-9, x + 0.5]).exp();
+            for (l, x) in [x, -x, x * 1e-9, x + 0.5].iter().enumerate() {
+                assert_eq!(
+                    lanes.0[l].to_bits(),
+                    crate::physics::exp::exp(*x).to_bits(),
+                    "{x}"
+                );
+            }
+        }
+        assert!(F64x4::splat(f64::NAN).exp().0[0].is_nan());
+        for e in -300..300 {
+            for k in 0..200 {
+                let q = (1.0 + k as f64 / 200.0) * 10f64.powi(e);
+                let lanes = F64x4([q, 2.0 * q, 3.0 * q, 5.0 * q]).cube_root();
+                for (l, q) in [q, 2.0 * q, 3.0 * q, 5.0 * q].iter().enumerate() {
+                    assert_eq!(lanes.0[l], crate::physics::hertz::cube_root(*q), "{q}");
+                }
+            }
+        }
+    }
+}
