@@ -22,6 +22,7 @@
 
 use super::exp::exp;
 use super::hertz::{cube_root, HertzContact};
+use super::lanes::{F64x4, Mask4};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 
@@ -482,6 +483,112 @@ impl StripCellLaw {
     }
 }
 
+/// [`ContactRheology`] of four contacts side by side ([`super::race_contact_lanes`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ContactRheologyX4 {
+    /// Mean pressure along the rolling direction of a strip through the centre, Pa.
+    p_centre: F64x4,
+    /// `1 / (2 Lambda h)`, 1/m.
+    inv_2lambda_h: F64x4,
+    ln_eta0: f64,
+    roelands_c: f64,
+    z: f64,
+    limiting: f64,
+}
+
+impl RheologyTraction {
+    /// [`RheologyTraction::at_load`] of four contacts, given also `ln_q`, the logarithm of
+    /// each load (of N).
+    #[inline(always)]
+    pub fn at_load_lanes(&self, q13: F64x4, ln_um: F64x4, ln_q: F64x4) -> ContactRheologyX4 {
+        let ln_um = ln_um.max(F64x4::splat(self.ln_speed_floor));
+        let h = F64x4::splat(self.h_coef) * (0.67 * ln_um - 0.067 * ln_q).exp();
+        ContactRheologyX4 {
+            p_centre: self.p_strip_coef * q13,
+            inv_2lambda_h: F64x4::splat(1.0) / ((2.0 * self.limiting) * h),
+            ln_eta0: self.ln_eta0,
+            roelands_c: self.roelands_c,
+            z: self.z,
+            limiting: self.limiting,
+        }
+    }
+}
+
+impl ContactRheologyX4 {
+    /// [`ContactRheology::strip_law`] of the four contacts.
+    #[inline(always)]
+    pub fn strip_law(&self, chord: f64) -> StripLawX4 {
+        let pressure = chord * self.p_centre;
+        let x = F64x4::splat(1.0) + (1.0 / ROELANDS_PRESSURE) * pressure;
+        let xz = (self.z * x.ln()).exp();
+        let viscosity =
+            (F64x4::splat(self.ln_eta0) + self.roelands_c * (xz - F64x4::splat(1.0))).exp();
+        let alpha = (self.roelands_c * self.z) * xz / (ROELANDS_PRESSURE * x);
+        // a strip at the ellipse's edge carries no load and no traction: k = 0 gives mu = 0
+        let unloaded = pressure.le(F64x4::splat(0.0));
+        StripLawX4 {
+            c: F64x4::select(unloaded, F64x4::splat(1.0), 0.5 * alpha * pressure),
+            k: F64x4::select(
+                unloaded,
+                F64x4::splat(0.0),
+                viscosity * alpha * self.inv_2lambda_h,
+            ),
+            limiting: self.limiting,
+        }
+    }
+}
+
+/// [`StripLaw`] of four contacts.
+#[derive(Debug, Clone, Copy)]
+pub struct StripLawX4 {
+    c: F64x4,
+    k: F64x4,
+    limiting: f64,
+}
+
+impl StripLawX4 {
+    /// Lane `l`'s law, for what [`StripCellLaw::cell_mean`] takes beyond the point value.
+    #[inline(always)]
+    pub fn lane(&self, l: usize) -> StripCellLaw {
+        StripCellLaw {
+            law: StripLaw {
+                c: self.c.0[l],
+                k: self.k.0[l],
+                limiting: self.limiting,
+            },
+        }
+    }
+
+    /// Lanes where [`StripCellLaw::cell_mean`] is the point value: its own test, given the
+    /// slip's squared size `s2` and its change's across the cell `l2` ((m/s)^2).
+    #[inline(always)]
+    pub fn takes_point_value(&self, s2: F64x4, l2: F64x4) -> Mask4 {
+        let ratio2 = l2 / F64x4::splat(CELL_POINT_RATIO * CELL_POINT_RATIO);
+        let steep_num = self.k * self.k * l2;
+        let steep_den = self.c * self.c * F64x4::splat(CELL_STEEPNESS * CELL_STEEPNESS);
+        let (a, b) = (ratio2.le(s2), steep_num.le(steep_den));
+        [a[0] || b[0], a[1] || b[1], a[2] || b[2], a[3] || b[3]]
+    }
+
+    /// [`StripLaw::mu_over_s`] of the four lanes, 1/(m/s); lanes whose `k s` exceeds
+    /// `1e150` are flagged in the mask returned (their value is not this one).
+    #[inline(always)]
+    pub fn mu_over_s(&self, s: F64x4) -> (F64x4, Mask4) {
+        let z = self.k * s;
+        let small = z.lt(F64x4::splat(1e-4));
+        let huge = F64x4::splat(1e150).lt(z);
+        // the Eyring branch's asinh for every lane, its argument kept where it is finite
+        let zc = z.max(F64x4::splat(1e-4)).min(F64x4::splat(1e150));
+        let z2 = zc * zc;
+        let a = (zc + z2 / (F64x4::splat(1.0) + (F64x4::splat(1.0) + z2).sqrt())).ln_1p();
+        let lim = F64x4::splat(self.limiting);
+        let saturated = self.c.le(a);
+        let eyring = F64x4::select(saturated, lim / s, lim * a / (self.c * s));
+        let linear = lim * self.k * (F64x4::splat(1.0) - z * z / F64x4::splat(6.0)) / self.c;
+        (F64x4::select(small, linear, eyring), huge)
+    }
+}
+
 /// `asinh z` for `z >= 1e-4`: below [`ASINH_LN_FROM`] as `log1p(z + z^2 / (1 + sqrt(1 +
 /// z^2)))`, from it on as `ln(z + sqrt(1 + z^2))`; one square root and one logarithm (the
 /// standard library's `asinh` adds a `hypot`, which cost as much as the rest of the strip
@@ -615,6 +722,64 @@ mod tests {
             }
         }
         laws
+    }
+
+    /// The four lanes' law is the contact's, law by law and lane by lane: `mu(s)/s` over
+    /// slips from 1e-15 to 1e4 m/s (its linear, Eyring and saturated ranges), the strip at
+    /// the ellipse's edge (`c` = 1, `k` = 0) included, and the film of four loads at once.
+    /// The lanes take `asinh` as `ln_1p` of the lanes (within about 2.4 ulp, lanes.rs),
+    /// where the scalar law takes libm's, and `mu/s` two roundings more: 1e-14 (45 ulp)
+    /// holds that and no difference of formula.
+    #[test]
+    fn the_lanes_law_is_the_contacts() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-14 * b.abs();
+        for law in strip_laws() {
+            let lanes = StripLawX4 {
+                c: F64x4::splat(law.c),
+                k: F64x4::splat(law.k),
+                limiting: law.limiting,
+            };
+            for e in -150..40 {
+                let s = 10f64.powf(e as f64 / 10.0);
+                let slips = F64x4([s, 1.5 * s, 2.5 * s, 7.0 * s]);
+                let (got, huge) = lanes.mu_over_s(slips);
+                for l in 0..4 {
+                    assert!(!huge[l]);
+                    let want = law.mu_over_s(slips.0[l]);
+                    assert!(
+                        close(got.0[l], want),
+                        "{:?} at {}: {} {want}",
+                        law,
+                        slips.0[l],
+                        got.0[l]
+                    );
+                }
+            }
+        }
+        let (rx, ry, ep) = (2.364e-3, 20e-3, 2.286e11);
+        let rheology = Rheology {
+            eta0: 4.44e-3,
+            alpha0: 1.5e-8,
+            z: roelands_z(4.44e-3, 1.5e-8),
+            limiting: 0.047,
+        };
+        let r = RheologyTraction::new(ep, rx, &exact(rx, ry, ep), &rheology);
+        let loads = [1.0, 30.0, 100.0, 1000.0];
+        let speeds = [0.001, 0.5, 9.21, 30.0];
+        let q = F64x4(loads);
+        let ln_um = F64x4(speeds).max(F64x4::splat(FILM_SPEED_FLOOR)).ln();
+        let film = r.at_load_lanes(q.cube_root(), ln_um, q.ln());
+        for chord in [1.0, 0.6, 0.0] {
+            let lanes = film.strip_law(chord);
+            for l in 0..4 {
+                let want = r.at(loads[l], speeds[l]).strip_law(chord);
+                let got = lanes.lane(l).law;
+                assert!(
+                    close(got.c, want.c) && close(got.k, want.k),
+                    "{got:?} {want:?}"
+                );
+            }
+        }
     }
 
     /// Slips from far inside the linear range to far beyond saturation, m/s.

@@ -19,6 +19,7 @@
 
 use super::exp::exp;
 use super::hertz::cube_root;
+use super::lanes::F64x4;
 use nalgebra::Vector3;
 
 /// Below this entrainment speed (m/s) the force is scaled linearly to zero, so its
@@ -81,6 +82,21 @@ impl RollingResistance {
         let f_ehl = self.c_ehl * w13 * u34;
         let m6 = self.c_m * w / u34;
         (f_ivr - f_ehl) / (1.0 + m6) + f_ehl
+    }
+
+    /// [`RollingResistance::force`] of four contacts at positive loads `q` (N) given
+    /// their cube roots `q13` and `ln_um`, the logarithms of their speeds (m/s), N.
+    #[inline(always)]
+    pub fn force_lanes(&self, q: F64x4, q13: F64x4, ln_um: F64x4) -> F64x4 {
+        let w = self.w_per_load * q;
+        let w13 = self.w13_per_q13 * q13;
+        let ln_u = ln_um + F64x4::splat(self.ln_u_per_speed);
+        let u23 = ((2.0 / 3.0) * ln_u).exp();
+        let u34 = (0.75 * ln_u).exp();
+        let f_ivr = self.c_ivr * w13 * u23;
+        let f_ehl = self.c_ehl * w13 * u34;
+        let m6 = self.c_m * w / u34;
+        (f_ivr - f_ehl) / (F64x4::splat(1.0) + m6) + f_ehl
     }
 
     /// `F_R e` with `e` the unit entrainment direction of `um` (m/s, tangent to the
