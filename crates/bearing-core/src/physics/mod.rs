@@ -13,6 +13,7 @@ pub mod hertz;
 pub mod kinematics;
 pub mod lanes;
 pub mod race_contact;
+pub mod race_contact_lanes;
 pub mod rheology_traction;
 pub mod rolling_resistance;
 pub mod strips;

@@ -80,7 +80,7 @@ impl RingMotion {
 }
 
 /// Motion of a ball.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct BallMotion {
     /// Centre position, m.
     pub centre: Vector3<f64>,
@@ -363,7 +363,7 @@ impl ContactLoad {
 /// contact point relative to the ball centre (which the contact moves with), in the
 /// tangent plane, m/s. `r_contact` is the contact point from the ring centre.
 #[inline]
-fn entrainment_velocity(
+pub(crate) fn entrainment_velocity(
     ring: &RingMotion,
     ball: &BallMotion,
     u: &Vector3<f64>,
