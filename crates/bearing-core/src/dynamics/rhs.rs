@@ -12,7 +12,9 @@ use crate::physics::cage_pocket::{
 };
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
-use crate::physics::race_contact::{race_contact, BallMotion, RingMotion};
+use crate::physics::lanes::LANES;
+use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, RingMotion};
+use crate::physics::race_contact_lanes::race_contacts;
 use nalgebra::{Matrix3, Vector3};
 
 /// Per-evaluation quantities that are not part of the state.
@@ -261,18 +263,36 @@ pub fn output_forces(
     let mut f_outer = Vector3::zeros();
     let mut f_cage = Vector3::zeros();
     let mut ball_loads = [0.0; 2];
-    for j in 0..m.z {
-        let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
-        let (ball, _) = ball_at(m, y, j, &az, &inner, &outer, track, None);
-        let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
-        f_outer += co.force_on_ring;
-        if loads_of == Some(j) {
-            let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
-            ball_loads = [ci.load, co.load];
+    // the outer contacts in the right-hand side's groups, so that its forces are those of
+    // the right-hand side to the bit
+    for first in (0..m.z).step_by(LANES) {
+        let n = LANES.min(m.z - first);
+        let mut balls = [BallMotion::default(); LANES];
+        for (k, motion) in balls[..n].iter_mut().enumerate() {
+            let j = first + k;
+            let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
+            (*motion, _) = ball_at(m, y, j, &az, &inner, &outer, track, None);
         }
-        if pockets_reach_outer {
-            let pc = pocket_of(m, &cage, &cage_az, j, &ball);
-            f_cage += pc.force_on_cage;
+        let mut outer_contacts = [ContactResult::default(); LANES];
+        race_contacts(
+            &m.outer_race,
+            &outer,
+            &balls[..n],
+            &m.contact,
+            &mut outer_contacts[..n],
+        );
+        for (k, (ball, co)) in balls[..n].iter().zip(&outer_contacts[..n]).enumerate() {
+            let j = first + k;
+            f_outer += co.force_on_ring;
+            if loads_of == Some(j) {
+                // (a load is the same to the bit one by one and side by side)
+                let ci = race_contact(&m.inner_race, &inner, ball, &m.contact);
+                ball_loads = [ci.load, co.load];
+            }
+            if pockets_reach_outer {
+                let pc = pocket_of(m, &cage, &cage_az, j, ball);
+                f_cage += pc.force_on_cage;
+            }
         }
     }
     if m.land_on_outer || pockets_reach_outer {
@@ -373,73 +393,103 @@ pub fn rhs_tracked(
     let mb = m.ball_mass;
     let ib = m.ball_inertia;
 
-    for j in 0..m.z {
-        let b = l.ball(j);
-        let az = Azimuth::new(y[b + ball::THETA]);
-        let record = diag.as_deref_mut().map(|d| &mut d.track);
-        let (ball, imbalance) = ball_at(m, y, j, &az, &inner, &outer, track, record);
-        let ci = race_contact(&m.inner_race, &inner, &ball, &m.contact);
-        let co = race_contact(&m.outer_race, &outer, &ball, &m.contact);
-        let pc = pocket_of(m, &cage, &cage_az, j, &ball);
-        let mut f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
-        let mut mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
-        if let Some(drag) = &m.ball_drag {
-            f += drag.force(&ball.velocity);
-            mo += drag.moment(&ball.omega);
+    // The balls in groups of four, whose contacts with each race run side by side
+    // (`race_contacts`), then ball by ball.
+    for first in (0..m.z).step_by(LANES) {
+        let n = LANES.min(m.z - first);
+        let mut azimuths = [Azimuth::default(); LANES];
+        let mut balls = [BallMotion::default(); LANES];
+        let mut imbalances = [[0.0; 2]; LANES];
+        for k in 0..n {
+            let j = first + k;
+            azimuths[k] = Azimuth::new(y[l.ball(j) + ball::THETA]);
+            let record = diag.as_deref_mut().map(|d| &mut d.track);
+            (balls[k], imbalances[k]) =
+                ball_at(m, y, j, &azimuths[k], &inner, &outer, track, record);
         }
-        f_inner += ci.force_on_ring;
-        m_inner += ci.moment_on_ring;
-        f_outer += co.force_on_ring;
-        f_cage += pc.force_on_cage;
-        m_cage += pc.moment_on_cage;
-
-        let thd = y[b + ball::THETA_DOT];
-        let fa = az.to_frame(&f);
-        let ma = az.to_frame(&mo);
-        dy[b + ball::THETA] = thd;
-        if m.quasi_static_balls {
-            // The centre sits where its loads balance (ball_equilibrium); it is not
-            // advanced: the accepted step writes it, and the in-plane force of everything
-            // but the normal loads and the centrifugal force, into the state
-            // (`BearingSystem::project`).
-            let r = ball.centre.dot(&az.e_r());
-            dy[b + ball::X] = 0.0;
-            dy[b + ball::R] = 0.0;
-            dy[b + ball::X_DOT] = 0.0;
-            dy[b + ball::R_DOT] = 0.0;
-            dy[b + ball::THETA_DOT] = fa.z / (mb * r);
-            if let Some(d) = diag.as_deref_mut() {
-                // the balance left normal + centrifugal + lagged other = imbalance, so the
-                // other forces now are the net in-plane force, plus centrifugal, plus the
-                // lagged, less the imbalance (without that last term, a balance that
-                // stopped short fed its residual into the next step's other forces)
-                d.ball_centre[j] = [ball.centre.x, r];
-                d.ball_other_force[j] = [
-                    fa.x + y[b + ball::X_DOT] - imbalance[0],
-                    fa.y + mb * r * thd * thd + y[b + ball::R_DOT] - imbalance[1],
-                ];
+        let mut inner_contacts = [ContactResult::default(); LANES];
+        let mut outer_contacts = [ContactResult::default(); LANES];
+        race_contacts(
+            &m.inner_race,
+            &inner,
+            &balls[..n],
+            &m.contact,
+            &mut inner_contacts[..n],
+        );
+        race_contacts(
+            &m.outer_race,
+            &outer,
+            &balls[..n],
+            &m.contact,
+            &mut outer_contacts[..n],
+        );
+        for k in 0..n {
+            let j = first + k;
+            let b = l.ball(j);
+            let az = azimuths[k];
+            let (ball, imbalance) = (balls[k], imbalances[k]);
+            let (ci, co) = (&inner_contacts[k], &outer_contacts[k]);
+            let pc = pocket_of(m, &cage, &cage_az, j, &ball);
+            let mut f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
+            let mut mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
+            if let Some(drag) = &m.ball_drag {
+                f += drag.force(&ball.velocity);
+                mo += drag.moment(&ball.omega);
             }
-        } else {
-            let (r, rd) = (y[b + ball::R], y[b + ball::R_DOT]);
-            dy[b + ball::X] = y[b + ball::X_DOT];
-            dy[b + ball::R] = rd;
-            // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
-            dy[b + ball::X_DOT] = fa.x / mb;
-            dy[b + ball::R_DOT] = fa.y / mb + r * thd * thd;
-            dy[b + ball::THETA_DOT] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
-        }
-        // eq. 32 for a sphere, in the azimuth frame turning at thd about X:
-        // dw/dt = M / I - thd e_x x w (the gyroscopic coupling)
-        let (wr, wt) = (y[b + ball::W_R], y[b + ball::W_T]);
-        dy[b + ball::W_X] = ma.x / ib;
-        dy[b + ball::W_R] = ma.y / ib + thd * wt;
-        dy[b + ball::W_T] = ma.z / ib - thd * wr;
+            f_inner += ci.force_on_ring;
+            m_inner += ci.moment_on_ring;
+            f_outer += co.force_on_ring;
+            f_cage += pc.force_on_cage;
+            m_cage += pc.moment_on_cage;
 
-        if let Some(d) = diag.as_deref_mut() {
-            d.inner_load[j] = ci.load;
-            d.outer_load[j] = co.load;
-            d.inner_alpha[j] = ci.alpha.angle();
-            d.outer_alpha[j] = co.alpha.angle();
+            let thd = y[b + ball::THETA_DOT];
+            let fa = az.to_frame(&f);
+            let ma = az.to_frame(&mo);
+            dy[b + ball::THETA] = thd;
+            if m.quasi_static_balls {
+                // The centre sits where its loads balance (ball_equilibrium); it is not
+                // advanced: the accepted step writes it, and the in-plane force of everything
+                // but the normal loads and the centrifugal force, into the state
+                // (`BearingSystem::project`).
+                let r = ball.centre.dot(&az.e_r());
+                dy[b + ball::X] = 0.0;
+                dy[b + ball::R] = 0.0;
+                dy[b + ball::X_DOT] = 0.0;
+                dy[b + ball::R_DOT] = 0.0;
+                dy[b + ball::THETA_DOT] = fa.z / (mb * r);
+                if let Some(d) = diag.as_deref_mut() {
+                    // the balance left normal + centrifugal + lagged other = imbalance, so the
+                    // other forces now are the net in-plane force, plus centrifugal, plus the
+                    // lagged, less the imbalance (without that last term, a balance that
+                    // stopped short fed its residual into the next step's other forces)
+                    d.ball_centre[j] = [ball.centre.x, r];
+                    d.ball_other_force[j] = [
+                        fa.x + y[b + ball::X_DOT] - imbalance[0],
+                        fa.y + mb * r * thd * thd + y[b + ball::R_DOT] - imbalance[1],
+                    ];
+                }
+            } else {
+                let (r, rd) = (y[b + ball::R], y[b + ball::R_DOT]);
+                dy[b + ball::X] = y[b + ball::X_DOT];
+                dy[b + ball::R] = rd;
+                // eq. 30: axial, radial with centripetal term, orbital with Coriolis term
+                dy[b + ball::X_DOT] = fa.x / mb;
+                dy[b + ball::R_DOT] = fa.y / mb + r * thd * thd;
+                dy[b + ball::THETA_DOT] = (fa.z - 2.0 * mb * rd * thd) / (mb * r);
+            }
+            // eq. 32 for a sphere, in the azimuth frame turning at thd about X:
+            // dw/dt = M / I - thd e_x x w (the gyroscopic coupling)
+            let (wr, wt) = (y[b + ball::W_R], y[b + ball::W_T]);
+            dy[b + ball::W_X] = ma.x / ib;
+            dy[b + ball::W_R] = ma.y / ib + thd * wt;
+            dy[b + ball::W_T] = ma.z / ib - thd * wr;
+
+            if let Some(d) = diag.as_deref_mut() {
+                d.inner_load[j] = ci.load;
+                d.outer_load[j] = co.load;
+                d.inner_alpha[j] = ci.alpha.angle();
+                d.outer_alpha[j] = co.alpha.angle();
+            }
         }
     }
 
@@ -694,6 +744,82 @@ mod tests {
             }
         });
         assert!(largest < 10.0, "largest lagged force {largest} N");
+    }
+
+    /// Four contacts side by side (`race_contacts`) give what each contact alone gives
+    /// under the rheology law with rolling resistance, within rounding: on the compound
+    /// preset's first steps, where balls cross both defects, and with 14 balls, so that
+    /// the last group is half full. (Under the paper's curve `race_contacts` calls
+    /// `race_contact` ball by ball, so that half checks only the dispatch, to the bit.)
+    /// The bound: the lanes' logarithm is within 2 ulp of libm's, and the film's viscosity
+    /// `exp(ln eta0 + C ((1 + p/p_R)^Z - 1))` multiplies that by its exponent's size (about
+    /// 20), so the forces differ by some 1e-14 of their size; 1e-11 of the largest force
+    /// of the race leaves room for the strips' sums without passing a real difference (a
+    /// wrong strip's traction is percent).
+    #[test]
+    fn contacts_side_by_side_are_the_contacts_one_by_one() {
+        let mut scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
+        scene.bearing.ball_count = 14;
+        let rheology = Model::new(&scene.validated().unwrap());
+        scene.lubricant.traction = crate::scene::Traction::PAPER_CURVE;
+        scene.lubricant.rolling_resistance = crate::scene::RollingResistanceModel::None;
+        let curve = Model::new(&scene.validated().unwrap());
+        let (mut checked, mut loaded, mut defect_drops) = (0, 0, 0);
+        for (m, exact) in [(&rheology, false), (&curve, true)] {
+            let mut states = vec![];
+            each_step(m, 2e-3, |t, y, _| {
+                if states.len() < 400 {
+                    states.push((t, y.to_vec()));
+                }
+            });
+            for (t, y) in states.iter().step_by(7) {
+                let (inner, outer) = ring_motions(m, *t, y);
+                let balls: Vec<BallMotion> = (0..m.z)
+                    .map(|j| {
+                        let b = m.layout.ball(j);
+                        ball_motion(y, b, &Azimuth::new(y[b + ball::THETA]))
+                    })
+                    .collect();
+                for (race, ring) in [(&m.inner_race, &inner), (&m.outer_race, &outer)] {
+                    let mut side_by_side = vec![ContactResult::default(); m.z];
+                    race_contacts(race, ring, &balls, &m.contact, &mut side_by_side);
+                    let alone: Vec<ContactResult> = balls
+                        .iter()
+                        .map(|b| race_contact(race, ring, b, &m.contact))
+                        .collect();
+                    let scale = alone
+                        .iter()
+                        .map(|c| c.force_on_ball.norm())
+                        .fold(0.0, f64::max);
+                    for (a, b) in side_by_side.iter().zip(&alone) {
+                        defect_drops += (b.defect_drop > 0.0) as usize;
+                        loaded += (!exact && b.load > 0.0) as usize;
+                        assert_eq!(a.load, b.load);
+                        assert_eq!(a.delta, b.delta);
+                        assert_eq!((a.defect_drop, a.psi), (b.defect_drop, b.psi));
+                        assert_eq!((a.alpha, a.azimuth), (b.alpha, b.azimuth));
+                        for (u, v, r) in [
+                            (a.force_on_ball, b.force_on_ball, 1.0),
+                            (a.force_on_ring, b.force_on_ring, 1.0),
+                            (a.moment_on_ball, b.moment_on_ball, race.ball_radius),
+                            (a.moment_on_ring, b.moment_on_ring, race.path_radius),
+                        ] {
+                            let off = (u - v).norm();
+                            if exact {
+                                assert_eq!(u, v);
+                            } else {
+                                assert!(off <= 1e-11 * scale * r, "{u} against {v} at t {t}");
+                            }
+                        }
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(
+            checked > 1000 && defect_drops > 0 && loaded > 500,
+            "{checked} {defect_drops} {loaded}"
+        );
     }
 
     /// The traction moments on every ball from both races at state `y` (time `t`), x, y, z
