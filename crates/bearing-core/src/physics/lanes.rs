@@ -11,7 +11,7 @@
 use super::exp::{EXP2_TABLE, EXP_ARG_LIMIT, LN2_64_HI, LN2_64_LO, ROUNDING_SHIFT};
 use super::hertz::cube_root_start;
 use std::f64::consts::LN_2;
-use std::ops::{Add, Div, Mul, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Lanes per vector: four `f64` fill an AVX2 register.
 pub const LANES: usize = 4;
@@ -240,11 +240,31 @@ lanewise!(Sub, sub, -);
 lanewise!(Mul, mul, *);
 lanewise!(Div, div, /);
 
+impl Neg for F64x4 {
+    type Output = F64x4;
+    #[inline(always)]
+    fn neg(self) -> F64x4 {
+        self.map(|x| -x)
+    }
+}
+
 impl Mul<F64x4> for f64 {
     type Output = F64x4;
     #[inline(always)]
     fn mul(self, o: F64x4) -> F64x4 {
         F64x4::splat(self) * o
+    }
+}
+
+impl Neg for Vec3x4 {
+    type Output = Vec3x4;
+    #[inline(always)]
+    fn neg(self) -> Vec3x4 {
+        Vec3x4 {
+            x: -self.x,
+            y: -self.y,
+            z: -self.z,
+        }
     }
 }
 
@@ -295,6 +315,53 @@ impl Vec3x4 {
             y: s * self.y,
             z: s * self.z,
         }
+    }
+
+    /// `v` in every lane.
+    #[inline(always)]
+    pub fn splat(v: &nalgebra::Vector3<f64>) -> Vec3x4 {
+        Vec3x4 {
+            x: F64x4::splat(v.x),
+            y: F64x4::splat(v.y),
+            z: F64x4::splat(v.z),
+        }
+    }
+
+    /// Each lane's dot product, summed in `nalgebra`'s order.
+    #[inline(always)]
+    pub fn dot(self, o: Vec3x4) -> F64x4 {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+
+    /// Each lane's cross product, as `nalgebra`'s.
+    #[inline(always)]
+    pub fn cross(self, o: Vec3x4) -> Vec3x4 {
+        Vec3x4 {
+            x: self.y * o.z - self.z * o.y,
+            y: self.z * o.x - self.x * o.z,
+            z: self.x * o.y - self.y * o.x,
+        }
+    }
+
+    /// `m v` in each lane, summed as `nalgebra`'s product (column by column).
+    #[inline(always)]
+    pub fn rotated(self, m: &nalgebra::Matrix3<f64>) -> Vec3x4 {
+        let row = |r: usize| {
+            F64x4::splat(m[(r, 0)]) * self.x
+                + F64x4::splat(m[(r, 1)]) * self.y
+                + F64x4::splat(m[(r, 2)]) * self.z
+        };
+        Vec3x4 {
+            x: row(0),
+            y: row(1),
+            z: row(2),
+        }
+    }
+
+    /// `m^T v` in each lane.
+    #[inline(always)]
+    pub fn rotated_back(self, m: &nalgebra::Matrix3<f64>) -> Vec3x4 {
+        self.rotated(&m.transpose())
     }
 
     #[inline(always)]

@@ -2,18 +2,18 @@
 //! [`race_contact`] gives each, within rounding, with the laws' logarithms and
 //! exponentials in the lanes of [`F64x4`].
 //!
-//! The geometry, the defects and the Hertz load stay one contact at a time (their
-//! branches differ from ball to ball); from the load on, the four contacts' film, strip
-//! laws and rolling resistance run side by side. A strip whose slip is short beside its
+//! The defects stay one contact at a time (their branches differ from ball to ball);
+//! the geometry, the Hertz load, the four contacts' film, strip laws and rolling resistance
+//! and their moments run side by side. A strip whose slip is short beside its
 //! cell's, on a law steep on the cell's scale (or whose Eyring argument passes 1e150),
 //! takes its cell mean, lane by lane, from the scalar law
 //! ([`StripCellLaw::cell_mean`](super::rheology_traction::StripCellLaw)). Compiled twice,
 //! as `race_contact` is (`super::cpu`).
 
+use super::frames::Azimuth;
 use super::lanes::{F64x4, Vec3x4, LANES};
 use super::race_contact::{
-    contact_geometry, defects_effect_at, race_contact, BallMotion, ContactParams, ContactResult,
-    Race, RingMotion,
+    defects_effect_at, race_contact, BallMotion, ContactParams, ContactResult, Race, RingMotion,
 };
 use super::rheology_traction::RheologyTraction;
 use super::rolling_resistance::ENTRAINMENT_REGULARIZATION;
@@ -60,17 +60,6 @@ unsafe fn contacts_avx2(
     contacts_body(race, law, ring, balls, p, out)
 }
 
-/// One loaded contact's geometry and load, what its lane needs after them.
-#[derive(Clone, Copy)]
-struct Loaded {
-    u: Vector3<f64>,
-    s_hat: Vector3<f64>,
-    ball_to_ring: Vector3<f64>,
-    r_contact: Vector3<f64>,
-    normal_force_on_ball: Vector3<f64>,
-    um: Vector3<f64>,
-}
-
 #[inline(always)]
 fn contacts_body(
     race: &Race,
@@ -80,83 +69,134 @@ fn contacts_body(
     p: &ContactParams,
     out: &mut [ContactResult],
 ) {
-    // One at a time: geometry, defects, load (as `race_contact` does).
-    let mut loaded: [Option<Loaded>; LANES] = [None; LANES];
-    // unloaded lanes run on a unit load and speed, and are not read
-    let mut q = F64x4::splat(1.0);
-    let mut speed = F64x4::splat(1.0);
-    let mut c0 = Vec3x4::ZERO;
-    let mut c1 = Vec3x4::ZERO;
-    let mut c2 = Vec3x4::ZERO;
-    let ring_axis = ring.rot * Vector3::x();
-    for (l, ball) in balls.iter().enumerate() {
-        let g = contact_geometry(race, ring, &ball.centre);
-        let (delta0, u, t) = (g.delta, g.normal, g.tangent);
-        let o = &mut out[l];
+    // The group's balls in lanes (a short group repeats its last ball, whose extra lanes
+    // are not read).
+    let mut centre = Vec3x4::ZERO;
+    let mut velocity = Vec3x4::ZERO;
+    let mut omega = Vec3x4::ZERO;
+    for l in 0..LANES {
+        let b = &balls[l.min(balls.len() - 1)];
+        centre.set_lane(l, &b.centre);
+        velocity.set_lane(l, &b.velocity);
+        omega.set_lane(l, &b.omega);
+    }
+    // eqs. 2-7 as `contact_geometry`, lane by lane
+    let rel = centre - Vec3x4::splat(&ring.centre);
+    let pos = if ring.tilted {
+        rel.rotated_back(&ring.rot)
+    } else {
+        rel
+    };
+    let zero = F64x4::splat(0.0);
+    let rho = (pos.y * pos.y + pos.z * pos.z).sqrt();
+    let off_axis = zero.lt(rho);
+    let sin = F64x4::select(off_axis, -pos.y / rho, zero);
+    let cos = F64x4::select(off_axis, pos.z / rho, F64x4::splat(1.0));
+    let dx = pos.x - F64x4::splat(race.centre_axial);
+    let dr = rho - F64x4::splat(race.centre_radius);
+    let dist = (dx * dx + dr * dr).sqrt();
+    let delta0 = dist - F64x4::splat(race.free_distance);
+    let sign = if race.inner { -1.0 } else { 1.0 };
+    let alpha_sin = sign * dx / dist;
+    let alpha_cos = sign * dr / dist;
+    let u_body = Vec3x4 {
+        x: dx / dist,
+        y: -sin * dr / dist,
+        z: cos * dr / dist,
+    };
+    let t_body = Vec3x4 {
+        x: zero,
+        y: -cos,
+        z: -sin,
+    };
+    let (u, t) = if ring.tilted {
+        (u_body.rotated(&ring.rot), t_body.rotated(&ring.rot))
+    } else {
+        (u_body, t_body)
+    };
+
+    // One at a time: the defects (eqs. 33-36), whose branches differ from ball to ball.
+    let mut drop = zero;
+    let mut psi = zero;
+    let mut touching = [false; LANES];
+    for (l, o) in out.iter_mut().enumerate() {
+        let azimuth = Azimuth {
+            sin: sin.0[l],
+            cos: cos.0[l],
+        };
         *o = ContactResult {
-            alpha: g.alpha,
-            azimuth: g.azimuth,
-            delta: delta0,
+            alpha: Azimuth {
+                sin: alpha_sin.0[l],
+                cos: alpha_cos.0[l],
+            },
+            azimuth,
+            delta: delta0.0[l],
             ..Default::default()
         };
-        if delta0 <= 0.0 {
+        if delta0.0[l] <= 0.0 {
             continue;
         }
-        let eff = defects_effect_at(race, ring, &g.azimuth);
-        let delta = delta0 - eff.drop;
+        let eff = defects_effect_at(race, ring, &azimuth);
+        let delta = delta0.0[l] - eff.drop;
         o.delta = delta;
         o.defect_drop = eff.drop;
         o.psi = eff.psi;
-        if delta <= 0.0 {
-            continue;
-        }
-        let k = race.hertz.k;
-        let sq = delta.sqrt();
-        let ddelta = u.dot(&(ball.velocity - ring.velocity));
-        let c_damp = 2.0 * p.damping_ratio * (1.5 * k * sq * p.ball_mass).sqrt();
-        let load = (k * delta * sq + c_damp * ddelta).max(0.0);
-        o.load = load;
-        if load == 0.0 {
-            continue;
-        }
-        let (sp, cp) = if eff.psi == 0.0 {
-            (0.0, 1.0)
-        } else {
-            eff.psi.sin_cos()
-        };
-        let r_contact = ball.centre - ring.centre + race.ball_radius * u;
-        let um =
-            super::race_contact::entrainment_velocity(ring, ball, &u, race.ball_radius, &r_contact);
-        q.0[l] = load;
-        speed.0[l] = um.norm();
-        // eqs. 10-12 as in `strip_traction`: the slip `c0 + h c1 + y c2`
-        let s_hat = u.cross(&t);
-        let ball_to_ring = ball.centre - ring.centre;
-        let tangential = |v: Vector3<f64>| v - v.dot(&u) * u;
-        c0.set_lane(
-            l,
-            &tangential(ring.velocity + ring.spin * ring_axis.cross(&ball_to_ring) - ball.velocity),
-        );
-        c1.set_lane(
-            l,
-            &tangential(ring.spin * ring_axis.cross(&u) - ball.omega.cross(&u)),
-        );
-        c2.set_lane(
-            l,
-            &tangential(ring.spin * ring_axis.cross(&s_hat) - ball.omega.cross(&s_hat)),
-        );
-        loaded[l] = Some(Loaded {
-            u,
-            s_hat,
-            ball_to_ring,
-            r_contact,
-            normal_force_on_ball: -load * cp * u + load * sp * t,
-            um,
-        });
+        (drop.0[l], psi.0[l]) = (eff.drop, eff.psi);
+        touching[l] = delta > 0.0;
     }
-    if loaded.iter().all(Option::is_none) {
+    if touching.iter().all(|t| !t) {
         return;
     }
+
+    // Side by side: the Hertz load with damping (eq. 8), as `race_contact`.
+    let k = race.hertz.k;
+    let delta = delta0 - drop;
+    let sq = delta.sqrt();
+    let ddelta = u.dot(velocity - Vec3x4::splat(&ring.velocity));
+    let c_damp = (2.0 * p.damping_ratio) * ((1.5 * k) * sq * F64x4::splat(p.ball_mass)).sqrt();
+    let load = (k * delta * sq + c_damp * ddelta).max(zero);
+    let mut loaded = [false; LANES];
+    // unloaded lanes run on a unit load, and are not read
+    let mut q = F64x4::splat(1.0);
+    let mut sin_psi = zero;
+    let mut cos_psi = F64x4::splat(1.0);
+    for l in 0..out.len() {
+        if !touching[l] {
+            continue;
+        }
+        out[l].load = load.0[l];
+        loaded[l] = load.0[l] != 0.0;
+        if loaded[l] {
+            q.0[l] = load.0[l];
+            if psi.0[l] != 0.0 {
+                (sin_psi.0[l], cos_psi.0[l]) = psi.0[l].sin_cos();
+            }
+        }
+    }
+    if loaded.iter().all(|l| !l) {
+        return;
+    }
+    // the load direction, turned by psi towards +t at a defect edge (eq. 36)
+    let normal_force_on_ball = u.scale(-q * cos_psi) + t.scale(q * sin_psi);
+    let rb = race.ball_radius;
+    let r_contact = rel + u.scale(F64x4::splat(rb));
+    // the entrainment velocity (`entrainment_velocity`)
+    let ring_axis = Vec3x4::splat(&(ring.rot * Vector3::x()));
+    let spin = F64x4::splat(ring.spin);
+    let v_ball = omega.cross(u.scale(F64x4::splat(rb)));
+    let v_ring = Vec3x4::splat(&ring.velocity) + ring_axis.cross(r_contact).scale(spin) - velocity;
+    let um_full = (v_ball + v_ring).scale(F64x4::splat(0.5));
+    let tangential = |v: Vec3x4| v - u.scale(v.dot(u));
+    let um = tangential(um_full);
+    let speed = F64x4::select(loaded, um.norm_squared().sqrt(), F64x4::splat(1.0));
+    // eqs. 10-12 as in `strip_traction`: the slip `c0 + h c1 + y c2`
+    let s_hat = u.cross(t);
+    let ball_to_ring = rel;
+    let c0 = tangential(
+        Vec3x4::splat(&ring.velocity) + ring_axis.cross(ball_to_ring).scale(spin) - velocity,
+    );
+    let c1 = tangential(ring_axis.cross(u).scale(spin) - omega.cross(u));
+    let c2 = tangential(ring_axis.cross(s_hat).scale(spin) - omega.cross(s_hat));
 
     // Side by side: the load's cube root and logarithm, the speed's logarithm (`ContactLoad`).
     let q13 = q.cube_root();
@@ -165,7 +205,6 @@ fn contacts_body(
     let ln_floored = floored.ln();
     let film = law.at_load_lanes(q13, ln_floored, ln_q);
     // the ellipse (as `strip_traction`)
-    let rb = race.ball_radius;
     let rp = race.r_prime;
     let a_eff = (race.hertz.a_coef * q13).min(F64x4::splat(0.999 * rb));
     let a2 = a_eff * a_eff;
@@ -204,7 +243,7 @@ fn contacts_body(
             let qw = weight * q;
             let mut traction = v.scale(mu).scale(qw);
             for l in 0..LANES {
-                if loaded[l].is_some() && (!point[l] || huge[l]) {
+                if loaded[l] && (!point[l] || huge[l]) {
                     let mean = qw.0[l] * strip.lane(l).cell_mean(v.lane(l), span.lane(l));
                     traction.set_lane(l, &mean);
                 }
@@ -221,25 +260,28 @@ fn contacts_body(
         .as_ref()
         .map(|rr| rr.force_lanes(q, q13, ln_floored) / floored);
 
-    // One at a time again: the moments and the reactions (eq. 18).
-    for (l, lane) in loaded.iter().enumerate() {
-        let Some(c) = lane else { continue };
-        let (tr, fh, fy) = (f_tr.lane(l), f_h.lane(l), f_y.lane(l));
-        let m_ball = c.u.cross(&fh) + c.s_hat.cross(&fy);
-        let m_ring = -(c.ball_to_ring.cross(&tr) + m_ball);
-        let f_ball = c.normal_force_on_ball + tr;
-        let o = &mut out[l];
-        o.force_on_ball = f_ball;
-        o.moment_on_ball = m_ball;
-        o.force_on_ring = -f_ball;
-        o.moment_on_ring = m_ring + c.r_contact.cross(&(-c.normal_force_on_ball));
-        if let Some(per_speed) = rolling {
-            let f = per_speed.0[l] * c.um;
-            let r_b = rb * c.u;
-            o.force_on_ball += f;
-            o.moment_on_ball -= r_b.cross(&f);
-            o.force_on_ring -= f;
-            o.moment_on_ring -= c.r_contact.cross(&f);
+    // The moments and the reactions (eq. 18), side by side, then out lane by lane.
+    let m_ball = u.cross(f_h) + s_hat.cross(f_y);
+    let m_ring = -(ball_to_ring.cross(f_tr) + m_ball);
+    let f_ball = normal_force_on_ball + f_tr;
+    let mut force_on_ball = f_ball;
+    let mut moment_on_ball = m_ball;
+    let mut force_on_ring = -f_ball;
+    let mut moment_on_ring = m_ring + r_contact.cross(-normal_force_on_ball);
+    if let Some(per_speed) = rolling {
+        let f = um.scale(per_speed);
+        let r_b = u.scale(F64x4::splat(rb));
+        force_on_ball = force_on_ball + f;
+        moment_on_ball = moment_on_ball - r_b.cross(f);
+        force_on_ring = force_on_ring - f;
+        moment_on_ring = moment_on_ring - r_contact.cross(f);
+    }
+    for (l, o) in out.iter_mut().enumerate() {
+        if loaded[l] {
+            o.force_on_ball = force_on_ball.lane(l);
+            o.moment_on_ball = moment_on_ball.lane(l);
+            o.force_on_ring = force_on_ring.lane(l);
+            o.moment_on_ring = moment_on_ring.lane(l);
         }
     }
 }
