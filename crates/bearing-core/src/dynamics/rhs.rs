@@ -12,9 +12,8 @@ use crate::physics::cage_pocket::{
 };
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
-use crate::physics::lanes::LANES;
 use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, RingMotion};
-use crate::physics::race_contact_lanes::race_contacts;
+use crate::physics::race_contact_lanes::{race_contacts, PASS};
 use nalgebra::{Matrix3, Vector3};
 
 /// Per-evaluation quantities that are not part of the state.
@@ -263,17 +262,17 @@ pub fn output_forces(
     let mut f_outer = Vector3::zeros();
     let mut f_cage = Vector3::zeros();
     let mut ball_loads = [0.0; 2];
-    // the outer contacts in the right-hand side's groups, so that its forces are those of
+    // the outer contacts in the right-hand side's passes, so that its forces are those of
     // the right-hand side to the bit
-    for first in (0..m.z).step_by(LANES) {
-        let n = LANES.min(m.z - first);
-        let mut balls = [BallMotion::default(); LANES];
+    for first in (0..m.z).step_by(PASS) {
+        let n = PASS.min(m.z - first);
+        let mut balls = [BallMotion::default(); PASS];
         for (k, motion) in balls[..n].iter_mut().enumerate() {
             let j = first + k;
             let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
             (*motion, _) = ball_at(m, y, j, &az, &inner, &outer, track, None);
         }
-        let mut outer_contacts = [ContactResult::default(); LANES];
+        let mut outer_contacts = [ContactResult::default(); PASS];
         race_contacts(
             &m.outer_race,
             &outer,
@@ -393,13 +392,13 @@ pub fn rhs_tracked(
     let mb = m.ball_mass;
     let ib = m.ball_inertia;
 
-    // The balls in groups of four, whose contacts with each race run side by side
+    // The balls in passes of sixteen, whose contacts with each race run four at a time
     // (`race_contacts`), then ball by ball.
-    for first in (0..m.z).step_by(LANES) {
-        let n = LANES.min(m.z - first);
-        let mut azimuths = [Azimuth::default(); LANES];
-        let mut balls = [BallMotion::default(); LANES];
-        let mut imbalances = [[0.0; 2]; LANES];
+    for first in (0..m.z).step_by(PASS) {
+        let n = PASS.min(m.z - first);
+        let mut azimuths = [Azimuth::default(); PASS];
+        let mut balls = [BallMotion::default(); PASS];
+        let mut imbalances = [[0.0; 2]; PASS];
         for k in 0..n {
             let j = first + k;
             azimuths[k] = Azimuth::new(y[l.ball(j) + ball::THETA]);
@@ -407,8 +406,8 @@ pub fn rhs_tracked(
             (balls[k], imbalances[k]) =
                 ball_at(m, y, j, &azimuths[k], &inner, &outer, track, record);
         }
-        let mut inner_contacts = [ContactResult::default(); LANES];
-        let mut outer_contacts = [ContactResult::default(); LANES];
+        let mut inner_contacts = [ContactResult::default(); PASS];
+        let mut outer_contacts = [ContactResult::default(); PASS];
         race_contacts(
             &m.inner_race,
             &inner,
@@ -748,12 +747,14 @@ mod tests {
 
     /// Four contacts side by side (`race_contacts`) give what each contact alone gives
     /// under the rheology law with rolling resistance, within rounding: on the compound
-    /// preset's first steps, where balls cross both defects, and with 14 balls, so that
-    /// the last group is half full. (Under the paper's curve `race_contacts` calls
+    /// preset's first steps, where balls cross both defects and strips take their cell
+    /// means (queued across the pass), with 14 balls, so that the last group is half full,
+    /// and with 18 on a tilting inner ring, so that a second pass holds two. (Under the paper's curve `race_contacts` calls
     /// `race_contact` ball by ball, so that half checks only the dispatch, to the bit.)
     /// The bound: the lanes' logarithm is within 2 ulp of libm's, and the film's viscosity
     /// `exp(ln eta0 + C ((1 + p/p_R)^Z - 1))` multiplies that by its exponent's size (about
-    /// 20), so the forces differ by some 1e-14 of their size; 1e-11 of the largest force
+    /// 20), and the cell means' corrections `qw mean - point` round once more, so the
+    /// forces differ by some 1e-14 of their size; 1e-11 of the largest force
     /// of the race leaves room for the strips' sums without passing a real difference (a
     /// wrong strip's traction is percent).
     #[test]
@@ -761,11 +762,16 @@ mod tests {
         let mut scene = fault_case_scene("h7005c", FaultCase::Compound).unwrap();
         scene.bearing.ball_count = 14;
         let rheology = Model::new(&scene.validated().unwrap());
+        // two passes, the second short, and a tilting inner ring
+        let mut tilting = scene.clone();
+        tilting.bearing.ball_count = 18;
+        tilting.operating.inner_ring_tilt = crate::scene::TiltMode::Free;
+        let tilting = Model::new(&tilting.validated().unwrap());
         scene.lubricant.traction = crate::scene::Traction::PAPER_CURVE;
         scene.lubricant.rolling_resistance = crate::scene::RollingResistanceModel::None;
         let curve = Model::new(&scene.validated().unwrap());
-        let (mut checked, mut loaded, mut defect_drops) = (0, 0, 0);
-        for (m, exact) in [(&rheology, false), (&curve, true)] {
+        let (mut checked, mut loaded, mut defect_drops, mut tilted) = (0, 0, 0, 0);
+        for (m, exact) in [(&rheology, false), (&tilting, false), (&curve, true)] {
             let mut states = vec![];
             each_step(m, 2e-3, |t, y, _| {
                 if states.len() < 400 {
@@ -774,6 +780,7 @@ mod tests {
             });
             for (t, y) in states.iter().step_by(7) {
                 let (inner, outer) = ring_motions(m, *t, y);
+                tilted += inner.tilted as usize;
                 let balls: Vec<BallMotion> = (0..m.z)
                     .map(|j| {
                         let b = m.layout.ball(j);
@@ -817,8 +824,8 @@ mod tests {
             }
         }
         assert!(
-            checked > 1000 && defect_drops > 0 && loaded > 500,
-            "{checked} {defect_drops} {loaded}"
+            checked > 1000 && defect_drops > 0 && loaded > 500 && tilted > 10,
+            "{checked} {defect_drops} {loaded} {tilted}"
         );
     }
 

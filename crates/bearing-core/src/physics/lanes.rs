@@ -17,7 +17,7 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 pub const LANES: usize = 4;
 
 /// Four `f64`, one per contact.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[repr(C, align(32))]
 pub struct F64x4(pub [f64; LANES]);
 
@@ -105,8 +105,9 @@ impl F64x4 {
     /// `ln m = 2 atanh(s)` with `s = (m - 1)/(m + 1)`, `|s| <= 0.172`, by its series
     /// `2 s (1 + s^2/3 + s^4/5 + ...)` to `s^20/21` (the next term is below 1e-18 of the
     /// sum). `x` must be positive and normal (the contact's loads, speeds floored at
-    /// 1e-3 m/s, pressure ratios and `asinh` arguments are): the sign bit would go into
-    /// the exponent.
+    /// 1e-3 m/s, pressure ratios, `asinh` arguments and the cell mean's ratios are, in
+    /// every lane whose result is kept): the sign bit would go into the exponent, and a
+    /// lane selected away may hold anything.
     #[inline(always)]
     pub fn ln(self) -> F64x4 {
         // the biased exponent as the low bits of 2^52's mantissa, the mantissa in [1, 2):
@@ -293,7 +294,7 @@ impl Sub for Vec3x4 {
 }
 
 /// Three components of four vectors, one vector per lane.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Vec3x4 {
     pub x: F64x4,
     pub y: F64x4,
@@ -373,6 +374,14 @@ impl Vec3x4 {
     #[inline(always)]
     pub fn lane(&self, l: usize) -> nalgebra::Vector3<f64> {
         nalgebra::Vector3::new(self.x.0[l], self.y.0[l], self.z.0[l])
+    }
+
+    /// Adds `v` to lane `l`'s vector.
+    #[inline(always)]
+    pub fn add_to_lane(&mut self, l: usize, v: &nalgebra::Vector3<f64>) {
+        self.x.0[l] += v.x;
+        self.y.0[l] += v.y;
+        self.z.0[l] += v.z;
     }
 
     /// Sets lane `l`'s vector.

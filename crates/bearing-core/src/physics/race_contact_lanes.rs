@@ -1,21 +1,20 @@
-//! Four ball-race contacts of one race at once, under the rheology law: what
-//! [`race_contact`] gives each, within rounding, with the laws' logarithms and
-//! exponentials in the lanes of [`F64x4`].
+//! Ball-race contacts of one race four at a time, under the rheology law: what
+//! [`race_contact`] gives each, within rounding, in the lanes of [`F64x4`].
 //!
-//! The defects stay one contact at a time (their branches differ from ball to ball);
-//! the geometry, the Hertz load, the four contacts' film, strip laws and rolling resistance
-//! and their moments run side by side. A strip whose slip is short beside its
-//! cell's, on a law steep on the cell's scale (or whose Eyring argument passes 1e150),
-//! takes its cell mean, lane by lane, from the scalar law
-//! ([`StripCellLaw::cell_mean`](super::rheology_traction::StripCellLaw)). Compiled twice,
-//! as `race_contact` is (`super::cpu`).
+//! The defects stay one contact at a time (their branches differ from ball to ball); the
+//! geometry, the Hertz load, the film, the strip laws, the rolling resistance and the
+//! moments run side by side. A strip whose slip is short beside its cell's, on a law steep
+//! on the cell's scale, takes its cell mean: such strips are few, so a pass of sixteen
+//! balls queues them and takes four at a time ([`CellQueue`]); one whose Eyring argument
+//! passes 1e150 takes the scalar law's. Compiled twice, as `race_contact` is
+//! (`super::cpu`).
 
 use super::frames::Azimuth;
 use super::lanes::{F64x4, Vec3x4, LANES};
 use super::race_contact::{
     defects_effect_at, race_contact, BallMotion, ContactParams, ContactResult, Race, RingMotion,
 };
-use super::rheology_traction::RheologyTraction;
+use super::rheology_traction::{RheologyTraction, StripLawX4};
 use super::rolling_resistance::ENTRAINMENT_REGULARIZATION;
 use super::traction::TractionLaw;
 use nalgebra::Vector3;
@@ -36,16 +35,21 @@ pub fn race_contacts(
         }
         return;
     };
-    for (group, o) in balls.chunks(LANES).zip(out.chunks_mut(LANES)) {
+    for (pass, o) in balls.chunks(PASS).zip(out.chunks_mut(PASS)) {
         #[cfg(target_arch = "x86_64")]
         if super::cpu::wide_vectors() {
             // SAFETY: the processor has AVX2 and FMA, checked at run time.
-            unsafe { contacts_avx2(race, law, ring, group, p, o) };
+            unsafe { contacts_avx2(race, law, ring, pass, p, o) };
             continue;
         }
-        contacts_body(race, law, ring, group, p, o);
+        contacts_body(race, law, ring, pass, p, o);
     }
 }
+
+/// Balls per pass: four groups of four, whose strips that take their cell mean are
+/// gathered four at a time ([`CellQueue`]): about one strip in eleven takes it, so one
+/// group's four lanes seldom hold more than one.
+pub const PASS: usize = 4 * LANES;
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
@@ -60,6 +64,8 @@ unsafe fn contacts_avx2(
     contacts_body(race, law, ring, balls, p, out)
 }
 
+/// One pass of up to [`PASS`] balls: each group's forces, the cell means, each group's
+/// results.
 #[inline(always)]
 fn contacts_body(
     race: &Race,
@@ -68,6 +74,123 @@ fn contacts_body(
     balls: &[BallMotion],
     p: &ContactParams,
     out: &mut [ContactResult],
+) {
+    let mut states = [GroupState::default(); PASS / LANES];
+    let mut queue = CellQueue::default();
+    let groups = balls.chunks(LANES).zip(out.chunks_mut(LANES));
+    for (g, (group, o)) in groups.enumerate() {
+        group_forces(race, law, ring, group, p, o, &mut states, g, &mut queue);
+    }
+    queue.flush(law.limiting, &mut states);
+    for (state, o) in states.iter().zip(out.chunks_mut(LANES)) {
+        state.write(o);
+    }
+}
+
+/// What one group's results need after its strips: the contacts' frames and forces, and
+/// the strip sums, which the cell means correct.
+#[derive(Clone, Copy, Default)]
+struct GroupState {
+    loaded: [bool; LANES],
+    u: Vec3x4,
+    s_hat: Vec3x4,
+    ball_to_ring: Vec3x4,
+    r_contact: Vec3x4,
+    normal_force_on_ball: Vec3x4,
+    um: Vec3x4,
+    rb: f64,
+    /// The rolling resistance over the entrainment speed, N/(m/s).
+    rolling_per_speed: Option<F64x4>,
+    f_tr: Vec3x4,
+    f_h: Vec3x4,
+    f_y: Vec3x4,
+}
+
+/// Strips waiting for their cell mean: four fill the lanes.
+#[derive(Default)]
+struct CellQueue {
+    jobs: [CellJob; LANES],
+    len: usize,
+}
+
+/// One strip's cell mean to take: its law, slip and span, its load share, and where its
+/// traction went in with its point value.
+#[derive(Clone, Copy, Default)]
+struct CellJob {
+    group: usize,
+    lane: usize,
+    /// The strip's distance from the ball centre and its signed position `-+y`, m.
+    h: f64,
+    y: f64,
+    c: f64,
+    k: f64,
+    v: Vector3<f64>,
+    span: Vector3<f64>,
+    /// The load share times the load, N.
+    qw: f64,
+    /// The traction summed for it with its point value, N.
+    point: Vector3<f64>,
+}
+
+impl CellQueue {
+    #[inline(always)]
+    fn push(&mut self, job: CellJob, limiting: f64, states: &mut [GroupState]) {
+        self.jobs[self.len] = job;
+        self.len += 1;
+        if self.len == LANES {
+            self.flush(limiting, states);
+        }
+    }
+
+    /// The waiting strips' cell means side by side; each replaces its strip's point value
+    /// in its group's sums.
+    #[inline(always)]
+    fn flush(&mut self, limiting: f64, states: &mut [GroupState]) {
+        if self.len == 0 {
+            return;
+        }
+        let job = |i: usize| &self.jobs[i.min(self.len - 1)];
+        let c = F64x4(std::array::from_fn(|i| job(i).c));
+        let k = F64x4(std::array::from_fn(|i| job(i).k));
+        let mut v = Vec3x4::ZERO;
+        let mut span = Vec3x4::ZERO;
+        for i in 0..LANES {
+            v.set_lane(i, &job(i).v);
+            span.set_lane(i, &job(i).span);
+        }
+        let law = StripLawX4::of_lanes(c, k, limiting);
+        let (mean, huge) = law.cell_mean(v, span);
+        for (i, j) in self.jobs[..self.len].iter().enumerate() {
+            let m = if huge[i] {
+                law.lane(i).cell_mean(j.v, j.span)
+            } else {
+                mean.lane(i)
+            };
+            let correction = j.qw * m - j.point;
+            let st = &mut states[j.group];
+            st.f_tr.add_to_lane(j.lane, &correction);
+            st.f_h.add_to_lane(j.lane, &(j.h * correction));
+            st.f_y.add_to_lane(j.lane, &(j.y * correction));
+        }
+        self.len = 0;
+    }
+}
+
+/// Group `g` of a pass: its contacts' geometry, loads and strip sums into `states[g]`, its
+/// strips that take their cell mean into `queue`; the unloaded contacts' results into
+/// `out`.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the hot path's context, passed as it stands
+fn group_forces(
+    race: &Race,
+    law: &RheologyTraction,
+    ring: &RingMotion,
+    balls: &[BallMotion],
+    p: &ContactParams,
+    out: &mut [ContactResult],
+    states: &mut [GroupState],
+    g: usize,
+    queue: &mut CellQueue,
 ) {
     // The group's balls in lanes (a short group repeats its last ball, whose extra lanes
     // are not read).
@@ -80,7 +203,7 @@ fn contacts_body(
         velocity.set_lane(l, &b.velocity);
         omega.set_lane(l, &b.omega);
     }
-    // eqs. 2-7 as `contact_geometry`, lane by lane
+    // eqs. 2-7 as `contact_geometry`, side by side
     let rel = centre - Vec3x4::splat(&ring.centre);
     let pos = if ring.tilted {
         rel.rotated_back(&ring.rot)
@@ -96,9 +219,9 @@ fn contacts_body(
     let dr = rho - F64x4::splat(race.centre_radius);
     let dist = (dx * dx + dr * dr).sqrt();
     let delta0 = dist - F64x4::splat(race.free_distance);
-    let sign = if race.inner { -1.0 } else { 1.0 };
-    let alpha_sin = sign * dx / dist;
-    let alpha_cos = sign * dr / dist;
+    let normal_sign = if race.inner { -1.0 } else { 1.0 };
+    let alpha_sin = normal_sign * dx / dist;
+    let alpha_cos = normal_sign * dr / dist;
     let u_body = Vec3x4 {
         x: dx / dist,
         y: -sin * dr / dist,
@@ -209,15 +332,26 @@ fn contacts_body(
     let a_eff = (race.hertz.a_coef * q13).min(F64x4::splat(0.999 * rb));
     let a2 = a_eff * a_eff;
     let base = (F64x4::splat(rb * rb) - a2).sqrt() - (F64x4::splat(rp * rp) - a2).sqrt();
-    let mut f_tr = Vec3x4::ZERO;
-    let mut f_h = Vec3x4::ZERO;
-    let mut f_y = Vec3x4::ZERO;
+    states[g] = GroupState {
+        loaded,
+        u,
+        s_hat,
+        ball_to_ring,
+        r_contact,
+        normal_force_on_ball,
+        um,
+        rb,
+        rolling_per_speed: None,
+        f_tr: Vec3x4::ZERO,
+        f_h: Vec3x4::ZERO,
+        f_y: Vec3x4::ZERO,
+    };
     for pair in &p.strips.pairs {
         let strip = film.strip_law(pair.chord);
         let y = pair.xi * a_eff;
         let root = (F64x4::splat(rp * rp) - y * y).sqrt();
         let h = root + base;
-        let centre = c0 + c1.scale(h);
+        let mid = c0 + c1.scale(h);
         let across = c2.scale(y);
         let cell = pair.cell * a_eff;
         // the slip's change across the cell, `(-y/root) cell c1 + cell c2` at -y and +y
@@ -226,9 +360,9 @@ fn contacts_body(
         let mut tr = [Vec3x4::ZERO; 2];
         for (side, sign) in [(0, -1.0), (1, 1.0)] {
             let v = if side == 0 {
-                centre - across
+                mid - across
             } else {
-                centre + across
+                mid + across
             };
             let span = c1.scale(-sign * slope) + cell_c2;
             let s2 = v.norm_squared();
@@ -243,45 +377,84 @@ fn contacts_body(
             let qw = weight * q;
             let mut traction = v.scale(mu).scale(qw);
             for l in 0..LANES {
-                if loaded[l] && (!point[l] || huge[l]) {
+                if !loaded[l] || (point[l] && !huge[l]) {
+                    continue;
+                }
+                if huge[l] {
                     let mean = qw.0[l] * strip.lane(l).cell_mean(v.lane(l), span.lane(l));
                     traction.set_lane(l, &mean);
+                } else {
+                    // its point value now, its cell mean with three others' later
+                    let job = CellJob {
+                        group: g,
+                        lane: l,
+                        h: h.0[l],
+                        y: sign * y.0[l],
+                        c: strip.c_of(l),
+                        k: strip.k_of(l),
+                        v: v.lane(l),
+                        span: span.lane(l),
+                        qw: qw.0[l],
+                        point: traction.lane(l),
+                    };
+                    queue.push(job, law.limiting, states);
                 }
             }
             tr[side] = traction;
         }
         let both = tr[0] + tr[1];
-        f_tr = f_tr + both;
-        f_h = f_h + both.scale(h);
-        f_y = f_y + (tr[1] - tr[0]).scale(y);
+        let st = &mut states[g];
+        st.f_tr = st.f_tr + both;
+        st.f_h = st.f_h + both.scale(h);
+        st.f_y = st.f_y + (tr[1] - tr[0]).scale(y);
     }
-    let rolling = race
+    states[g].rolling_per_speed = race
         .rolling
         .as_ref()
         .map(|rr| rr.force_lanes(q, q13, ln_floored) / floored);
+}
 
-    // The moments and the reactions (eq. 18), side by side, then out lane by lane.
-    let m_ball = u.cross(f_h) + s_hat.cross(f_y);
-    let m_ring = -(ball_to_ring.cross(f_tr) + m_ball);
-    let f_ball = normal_force_on_ball + f_tr;
-    let mut force_on_ball = f_ball;
-    let mut moment_on_ball = m_ball;
-    let mut force_on_ring = -f_ball;
-    let mut moment_on_ring = m_ring + r_contact.cross(-normal_force_on_ball);
-    if let Some(per_speed) = rolling {
-        let f = um.scale(per_speed);
-        let r_b = u.scale(F64x4::splat(rb));
-        force_on_ball = force_on_ball + f;
-        moment_on_ball = moment_on_ball - r_b.cross(f);
-        force_on_ring = force_on_ring - f;
-        moment_on_ring = moment_on_ring - r_contact.cross(f);
-    }
-    for (l, o) in out.iter_mut().enumerate() {
-        if loaded[l] {
-            o.force_on_ball = force_on_ball.lane(l);
-            o.moment_on_ball = moment_on_ball.lane(l);
-            o.force_on_ring = force_on_ring.lane(l);
-            o.moment_on_ring = moment_on_ring.lane(l);
+impl GroupState {
+    /// The group's loaded contacts' forces and moments into `out` (eq. 18): side by side,
+    /// then out lane by lane.
+    #[inline(always)]
+    fn write(&self, out: &mut [ContactResult]) {
+        let GroupState {
+            u,
+            s_hat,
+            ball_to_ring,
+            r_contact,
+            normal_force_on_ball,
+            um,
+            rb,
+            f_tr,
+            f_h,
+            f_y,
+            ..
+        } = *self;
+
+        let m_ball = u.cross(f_h) + s_hat.cross(f_y);
+        let m_ring = -(ball_to_ring.cross(f_tr) + m_ball);
+        let f_ball = normal_force_on_ball + f_tr;
+        let mut force_on_ball = f_ball;
+        let mut moment_on_ball = m_ball;
+        let mut force_on_ring = -f_ball;
+        let mut moment_on_ring = m_ring + r_contact.cross(-normal_force_on_ball);
+        if let Some(per_speed) = self.rolling_per_speed {
+            let f = um.scale(per_speed);
+            let r_b = u.scale(F64x4::splat(rb));
+            force_on_ball = force_on_ball + f;
+            moment_on_ball = moment_on_ball - r_b.cross(f);
+            force_on_ring = force_on_ring - f;
+            moment_on_ring = moment_on_ring - r_contact.cross(f);
+        }
+        for (l, o) in out.iter_mut().enumerate() {
+            if self.loaded[l] {
+                o.force_on_ball = force_on_ball.lane(l);
+                o.moment_on_ball = moment_on_ball.lane(l);
+                o.force_on_ring = force_on_ring.lane(l);
+                o.moment_on_ring = moment_on_ring.lane(l);
+            }
         }
     }
 }
