@@ -222,6 +222,13 @@ fn other_integrators_agree_with_quasi_static_and_rk4_fsal() {
 /// 37 446 and `auto_slip` 41 135 against 204 409, the cages within the bound; with the
 /// preset's rolling resistance since the default changed, 40 255 and 42 188 against 206 521). (0.05 s is 1.7 shaft turns: too short for the load-zone bins of the
 /// quasi-static comparison, which the 10000 rpm tests above make.)
+///
+/// Each method's cage speed is the mean of three runs started at 1, 0.9 and 0.8 of the
+/// initial step, which changes the whole step sequence: one run's moves with it, by a
+/// standard deviation of about 2.5e-6 around `auto_slip`'s -5e-6 (five runs each of
+/// `4d6b9c7` and of the build with the contacts side by side, 2026-11-30, whose single run
+/// came to -1.02e-5 with the first start and -2.5e-6 to -6.9e-6 with the others). So the
+/// bound tests the methods' bias, not one step sequence's luck.
 #[test]
 fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
     let mut explicit = constant_speed(0.05, 1e-7);
@@ -232,13 +239,26 @@ fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
     explicit.solver.integrator = Integrator::Rk4Fsal;
     let mut implicit = explicit.clone();
     implicit.solver.integrator = Integrator::SlipImplicit;
-    let (re, ri) = (run(&explicit), run(&implicit));
-    let (ce, ci) = (re.summary.mean_cage_speed, ri.summary.mean_cage_speed);
+    let re = run(&explicit);
+    let ce = re.summary.mean_cage_speed;
+    // the mean cage speed of three starts and the first start's evaluations
+    let three_starts = |s: &Scene| {
+        let mut cage = 0.0;
+        let mut first = 0;
+        for (k, factor) in [1.0, 0.9, 0.8].into_iter().enumerate() {
+            let mut s = s.clone();
+            s.solver.initial_step *= factor;
+            let r = run(&s);
+            cage += r.summary.mean_cage_speed / 3.0;
+            if k == 0 {
+                first = r.summary.stats.rhs_evaluations;
+            }
+        }
+        (cage, first)
+    };
+    let (ci, ni) = three_starts(&implicit);
     assert!(((ci - ce) / ce).abs() < 1e-5, "cage {ci} vs {ce} rad/s");
-    let (ne, ni) = (
-        re.summary.stats.rhs_evaluations,
-        ri.summary.stats.rhs_evaluations,
-    );
+    let ne = re.summary.stats.rhs_evaluations;
     eprintln!("rk4_fsal {ne}, slip_implicit {ni} evaluations");
     assert!(
         2 * ni < ne,
@@ -247,8 +267,7 @@ fn slip_implicit_steps_over_the_slip_relaxation_at_low_speed() {
     // `auto_slip` finds the implicit method the cheaper by measuring, and stays with it
     let mut auto = explicit.clone();
     auto.solver.integrator = Integrator::AutoSlip;
-    let ra = run(&auto);
-    let (ca, na) = (ra.summary.mean_cage_speed, ra.summary.stats.rhs_evaluations);
+    let (ca, na) = three_starts(&auto);
     eprintln!("auto_slip {na} evaluations");
     assert!(((ca - ce) / ce).abs() < 1e-5, "cage {ca} vs {ce} rad/s");
     assert!(
