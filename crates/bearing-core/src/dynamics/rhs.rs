@@ -12,7 +12,7 @@ use crate::physics::cage_pocket::{
 };
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
-use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, RingMotion};
+use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, Race, RingMotion};
 use crate::physics::race_contact_lanes::{race_contacts, PASS};
 use nalgebra::{Matrix3, Vector3};
 
@@ -187,6 +187,68 @@ fn ball_at(
     }
 }
 
+/// Up to [`PASS`] balls from ball `first` on, as [`ball_at`] gives them (`record` taking
+/// where each stands), with their azimuths and imbalances: one pass of `race_contacts`,
+/// the same for the right-hand side and the output, so that both sum the same contacts.
+struct BallPass {
+    /// Balls in the pass.
+    n: usize,
+    azimuths: [Azimuth; PASS],
+    balls: [BallMotion; PASS],
+    /// Quasi-static balls only: each balance's residual, N.
+    imbalances: [[f64; 2]; PASS],
+}
+
+#[inline]
+#[allow(clippy::too_many_arguments)] // the hot path's context, passed as it stands
+fn ball_pass(
+    m: &Model,
+    y: &[f64],
+    first: usize,
+    inner: &RingMotion,
+    outer: &RingMotion,
+    track: Option<&BalanceTrack>,
+    mut record: Option<&mut BalanceTrack>,
+) -> BallPass {
+    let mut pass = BallPass {
+        n: PASS.min(m.z - first),
+        azimuths: [Azimuth::default(); PASS],
+        balls: [BallMotion::default(); PASS],
+        imbalances: [[0.0; 2]; PASS],
+    };
+    for k in 0..pass.n {
+        let j = first + k;
+        pass.azimuths[k] = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
+        (pass.balls[k], pass.imbalances[k]) = ball_at(
+            m,
+            y,
+            j,
+            &pass.azimuths[k],
+            inner,
+            outer,
+            track,
+            record.as_deref_mut(),
+        );
+    }
+    pass
+}
+
+impl BallPass {
+    /// The pass's contacts with `race` on `ring` (the first `n` entries).
+    #[inline]
+    fn contacts(&self, m: &Model, race: &Race, ring: &RingMotion) -> [ContactResult; PASS] {
+        let mut out = [ContactResult::default(); PASS];
+        race_contacts(
+            race,
+            ring,
+            &self.balls[..self.n],
+            &m.contact,
+            &mut out[..self.n],
+        );
+        out
+    }
+}
+
 /// Ball `j` in its cage pocket.
 #[inline]
 fn pocket_of(
@@ -265,22 +327,10 @@ pub fn output_forces(
     // the outer contacts in the right-hand side's passes, so that its forces are those of
     // the right-hand side to the bit
     for first in (0..m.z).step_by(PASS) {
-        let n = PASS.min(m.z - first);
-        let mut balls = [BallMotion::default(); PASS];
-        for (k, motion) in balls[..n].iter_mut().enumerate() {
-            let j = first + k;
-            let az = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
-            (*motion, _) = ball_at(m, y, j, &az, &inner, &outer, track, None);
-        }
-        let mut outer_contacts = [ContactResult::default(); PASS];
-        race_contacts(
-            &m.outer_race,
-            &outer,
-            &balls[..n],
-            &m.contact,
-            &mut outer_contacts[..n],
-        );
-        for (k, (ball, co)) in balls[..n].iter().zip(&outer_contacts[..n]).enumerate() {
+        let pass = ball_pass(m, y, first, &inner, &outer, track, None);
+        let outer_contacts = pass.contacts(m, &m.outer_race, &outer);
+        let n = pass.n;
+        for (k, (ball, co)) in pass.balls[..n].iter().zip(&outer_contacts[..n]).enumerate() {
             let j = first + k;
             f_outer += co.force_on_ring;
             if loads_of == Some(j) {
@@ -395,34 +445,12 @@ pub fn rhs_tracked(
     // The balls in passes of sixteen, whose contacts with each race run four at a time
     // (`race_contacts`), then ball by ball.
     for first in (0..m.z).step_by(PASS) {
-        let n = PASS.min(m.z - first);
-        let mut azimuths = [Azimuth::default(); PASS];
-        let mut balls = [BallMotion::default(); PASS];
-        let mut imbalances = [[0.0; 2]; PASS];
-        for k in 0..n {
-            let j = first + k;
-            azimuths[k] = Azimuth::new(y[l.ball(j) + ball::THETA]);
-            let record = diag.as_deref_mut().map(|d| &mut d.track);
-            (balls[k], imbalances[k]) =
-                ball_at(m, y, j, &azimuths[k], &inner, &outer, track, record);
-        }
-        let mut inner_contacts = [ContactResult::default(); PASS];
-        let mut outer_contacts = [ContactResult::default(); PASS];
-        race_contacts(
-            &m.inner_race,
-            &inner,
-            &balls[..n],
-            &m.contact,
-            &mut inner_contacts[..n],
-        );
-        race_contacts(
-            &m.outer_race,
-            &outer,
-            &balls[..n],
-            &m.contact,
-            &mut outer_contacts[..n],
-        );
-        for k in 0..n {
+        let record = diag.as_deref_mut().map(|d| &mut d.track);
+        let pass = ball_pass(m, y, first, &inner, &outer, track, record);
+        let inner_contacts = pass.contacts(m, &m.inner_race, &inner);
+        let outer_contacts = pass.contacts(m, &m.outer_race, &outer);
+        let (azimuths, balls, imbalances) = (&pass.azimuths, &pass.balls, &pass.imbalances);
+        for k in 0..pass.n {
             let j = first + k;
             let b = l.ball(j);
             let az = azimuths[k];
