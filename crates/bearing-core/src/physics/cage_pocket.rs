@@ -62,7 +62,7 @@ pub struct PocketResult {
 }
 
 /// Slip speed below which Coulomb friction is scaled down linearly, m/s.
-const FRICTION_REGULARIZATION: f64 = 1e-2;
+pub(super) const FRICTION_REGULARIZATION: f64 = 1e-2;
 
 /// The pocket at inertial azimuth `pocket` on `cage`: its centre (m) and its axis (unit,
 /// radial in the cage's frame).

@@ -4,6 +4,7 @@
 
 pub mod cage_land;
 pub mod cage_pocket;
+pub mod cage_pocket_lanes;
 pub mod cpu;
 pub mod defect;
 pub mod drag;
