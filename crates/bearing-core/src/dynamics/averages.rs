@@ -46,8 +46,8 @@ impl Averages {
             let c = (
                 d.inner_load[j],
                 d.outer_load[j],
-                d.inner_alpha[j],
-                d.outer_alpha[j],
+                d.inner_alpha[j].angle(),
+                d.outer_alpha[j].angle(),
             );
             self.zone.add(k, w, c);
             self.balls.add(j, w, c);

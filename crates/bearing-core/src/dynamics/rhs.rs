@@ -7,9 +7,8 @@ use super::ball_equilibrium::{ball_equilibrium, BalanceTrack};
 use crate::model::layout::{ball, cage, inner, outer, Layout};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion, LandOnCage};
-use crate::physics::cage_pocket::{
-    pocket_centre_and_axis, pocket_contact, CageMotion, PocketResult,
-};
+use crate::physics::cage_pocket::{pocket_centre_and_axis, CageMotion, PocketResult};
+use crate::physics::cage_pocket_lanes::pocket_contacts;
 use crate::physics::drag::cage_windage_torque;
 use crate::physics::frames::{tilt_matrix, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, Race, RingMotion};
@@ -22,9 +21,11 @@ pub struct Diagnostics {
     /// Inner / outer normal contact load per ball, N.
     pub inner_load: Vec<f64>,
     pub outer_load: Vec<f64>,
-    /// Inner / outer contact angle per ball, rad.
-    pub inner_alpha: Vec<f64>,
-    pub outer_alpha: Vec<f64>,
+    /// Inner / outer contact angle per ball, by its sine and cosine (its angle is taken
+    /// where it is read: two `atan2` a ball at every step were about 1.2 % of the Table-1
+    /// case's time, and the averages read them only in their window).
+    pub inner_alpha: Vec<Azimuth>,
+    pub outer_alpha: Vec<Azimuth>,
     /// Force of the balls on the inner ring, N.
     pub inner_reaction: [f64; 3],
     /// Outer-ring (pedestal) acceleration y, z, m/s^2.
@@ -44,8 +45,8 @@ impl Diagnostics {
         Diagnostics {
             inner_load: vec![0.0; z],
             outer_load: vec![0.0; z],
-            inner_alpha: vec![0.0; z],
-            outer_alpha: vec![0.0; z],
+            inner_alpha: vec![Azimuth::default(); z],
+            outer_alpha: vec![Azimuth::default(); z],
             ball_centre: vec![[0.0; 2]; z],
             ball_other_force: vec![[0.0; 2]; z],
             track: BalanceTrack::new(z),
@@ -234,10 +235,34 @@ fn ball_pass(
 }
 
 impl BallPass {
-    /// The pass's contacts with `race` on `ring` (the first `n` entries).
+    /// The pass's balls in their pockets on `cage` (the first `n` entries of `out`), the
+    /// pass starting at ball `first`.
     #[inline]
-    fn contacts(&self, m: &Model, race: &Race, ring: &RingMotion) -> [ContactResult; PASS] {
-        let mut out = [ContactResult::default(); PASS];
+    fn pockets(
+        &self,
+        m: &Model,
+        cage: &CageMotion,
+        cage_az: &Azimuth,
+        first: usize,
+        out: &mut [PocketResult; PASS],
+    ) {
+        let mut azimuths = [Azimuth::default(); PASS];
+        for (k, az) in azimuths[..self.n].iter_mut().enumerate() {
+            *az = cage_az.plus(&m.pocket_azimuths[first + k]);
+        }
+        pocket_contacts(
+            &m.pocket,
+            cage,
+            &azimuths[..self.n],
+            &self.balls[..self.n],
+            &mut out[..self.n],
+        );
+    }
+
+    /// The pass's contacts with `race` on `ring` (the first `n` entries of `out`: an
+    /// array returned was copied out through `memcpy`, 0.7 % of the instructions).
+    #[inline]
+    fn contacts(&self, m: &Model, race: &Race, ring: &RingMotion, out: &mut [ContactResult; PASS]) {
         race_contacts(
             race,
             ring,
@@ -245,12 +270,12 @@ impl BallPass {
             &m.contact,
             &mut out[..self.n],
         );
-        out
     }
 }
 
-/// Ball `j` in its cage pocket.
-#[inline]
+/// Ball `j` in its cage pocket, one ball alone (the right-hand side takes a pass's
+/// together, `BallPass::pockets`, to the same bits).
+#[cfg(test)]
 fn pocket_of(
     m: &Model,
     cage: &CageMotion,
@@ -258,7 +283,7 @@ fn pocket_of(
     j: usize,
     ball: &BallMotion,
 ) -> PocketResult {
-    pocket_contact(
+    crate::physics::cage_pocket::pocket_contact(
         &m.pocket,
         cage,
         &cage_az.plus(&m.pocket_azimuths[j]),
@@ -326,9 +351,14 @@ pub fn output_forces(
     let mut ball_loads = [0.0; 2];
     // the outer contacts in the right-hand side's passes, so that its forces are those of
     // the right-hand side to the bit
+    let mut outer_contacts = [ContactResult::default(); PASS];
+    let mut pockets = [PocketResult::default(); PASS];
     for first in (0..m.z).step_by(PASS) {
         let pass = ball_pass(m, y, first, &inner, &outer, track, None);
-        let outer_contacts = pass.contacts(m, &m.outer_race, &outer);
+        pass.contacts(m, &m.outer_race, &outer, &mut outer_contacts);
+        if pockets_reach_outer {
+            pass.pockets(m, &cage, &cage_az, first, &mut pockets);
+        }
         let n = pass.n;
         for (k, (ball, co)) in pass.balls[..n].iter().zip(&outer_contacts[..n]).enumerate() {
             let j = first + k;
@@ -339,8 +369,7 @@ pub fn output_forces(
                 ball_loads = [ci.load, co.load];
             }
             if pockets_reach_outer {
-                let pc = pocket_of(m, &cage, &cage_az, j, ball);
-                f_cage += pc.force_on_cage;
+                f_cage += pockets[k].force_on_cage;
             }
         }
     }
@@ -442,13 +471,17 @@ pub fn rhs_tracked(
     let mb = m.ball_mass;
     let ib = m.ball_inertia;
 
-    // The balls in passes of sixteen, whose contacts with each race run four at a time
-    // (`race_contacts`), then ball by ball.
+    // The balls in passes of sixteen, whose contacts with each race and with their pockets
+    // run four at a time (`race_contacts`, `pocket_contacts`), then ball by ball.
+    let mut inner_contacts = [ContactResult::default(); PASS];
+    let mut outer_contacts = [ContactResult::default(); PASS];
+    let mut pockets = [PocketResult::default(); PASS];
     for first in (0..m.z).step_by(PASS) {
         let record = diag.as_deref_mut().map(|d| &mut d.track);
         let pass = ball_pass(m, y, first, &inner, &outer, track, record);
-        let inner_contacts = pass.contacts(m, &m.inner_race, &inner);
-        let outer_contacts = pass.contacts(m, &m.outer_race, &outer);
+        pass.contacts(m, &m.inner_race, &inner, &mut inner_contacts);
+        pass.contacts(m, &m.outer_race, &outer, &mut outer_contacts);
+        pass.pockets(m, &cage, &cage_az, first, &mut pockets);
         let (azimuths, balls, imbalances) = (&pass.azimuths, &pass.balls, &pass.imbalances);
         for k in 0..pass.n {
             let j = first + k;
@@ -456,7 +489,7 @@ pub fn rhs_tracked(
             let az = azimuths[k];
             let (ball, imbalance) = (balls[k], imbalances[k]);
             let (ci, co) = (&inner_contacts[k], &outer_contacts[k]);
-            let pc = pocket_of(m, &cage, &cage_az, j, &ball);
+            let pc = &pockets[k];
             let mut f = ci.force_on_ball + co.force_on_ball + pc.force_on_ball;
             let mut mo = ci.moment_on_ball + co.moment_on_ball + pc.moment_on_ball;
             if let Some(drag) = &m.ball_drag {
@@ -514,8 +547,8 @@ pub fn rhs_tracked(
             if let Some(d) = diag.as_deref_mut() {
                 d.inner_load[j] = ci.load;
                 d.outer_load[j] = co.load;
-                d.inner_alpha[j] = ci.alpha.angle();
-                d.outer_alpha[j] = co.alpha.angle();
+                d.inner_alpha[j] = ci.alpha;
+                d.outer_alpha[j] = co.alpha;
             }
         }
     }
