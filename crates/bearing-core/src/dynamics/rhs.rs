@@ -295,7 +295,8 @@ fn pocket_of(
 
 /// Offset of ball `j`'s centre from its pocket's axis along the orbit, m: where the ball sits
 /// in its clearance, positive toward increasing azimuth (ahead of the pocket's centre when
-/// the shaft turns positively). The pocket as [`pocket_contact`] places it, on the cage as
+/// the shaft turns positively). The pocket as
+/// [`pocket_contact`](crate::physics::cage_pocket::pocket_contact) places it, on the cage as
 /// the contact functions see it; the ball's centre from the state.
 pub fn pocket_offset(m: &Model, t: f64, y: &[f64], j: usize) -> f64 {
     let (inner, outer) = ring_motions(m, t, y);

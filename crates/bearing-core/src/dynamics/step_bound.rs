@@ -83,7 +83,8 @@ mod tests {
     /// signs of zero, the ends, and a spread in between.
     #[test]
     fn within_a_turn_is_rem_euclid() {
-        let below = TAU - TAU * f64::EPSILON;
+        // the largest number below a turn
+        let below = f64::from_bits(TAU.to_bits() - 1);
         let mut xs = vec![
             0.0,
             -0.0,

@@ -157,8 +157,10 @@ mod tests {
 
     /// Every lane is `pocket_contact`'s result to the bit: balls from the pocket's axis out
     /// past the clearance (squeeze only, Hertz with and without friction, no load, on the
-    /// axis), approaching and leaving, on a tilted, moving, spinning cage, in groups of
-    /// one to four.
+    /// axis), at pockets all round a tilted, moving, spinning cage, in groups of one to four;
+    /// and a ball pressed into a still cage's pocket without slip (Hertz with friction on,
+    /// no slip speed). Both copies: the one this processor runs (`pocket_contacts`) and the
+    /// baseline one (`group`, called directly).
     #[test]
     fn pockets_side_by_side_are_the_pockets_one_by_one() {
         let p = PocketParams {
@@ -213,7 +215,16 @@ mod tests {
                         &balls[first..end],
                         &mut out,
                     );
-                    for (k, got) in (first..end).zip(&out) {
+                    let mut baseline = vec![PocketResult::default(); end - first];
+                    group(
+                        &p,
+                        &cage,
+                        &pockets[first..end],
+                        &balls[first..end],
+                        &mut baseline,
+                    );
+                    let both = out.iter().zip(&baseline);
+                    for (k, (got, got_baseline)) in (first..end).zip(both) {
                         let b = &balls[k];
                         let want = pocket_contact(
                             &p,
@@ -237,8 +248,14 @@ mod tests {
                             )
                         };
                         assert_eq!(bits(got), bits(&want), "ball {k}: {got:?} {want:?}");
+                        assert_eq!(bits(got_baseline), bits(&want), "ball {k}, baseline");
                         let kind = if want.normal == 0.0 {
-                            0
+                            // unloaded off the axis; on it (to rounding: the early return)
+                            if p.clearance - want.film < 1e-12 {
+                                4
+                            } else {
+                                0
+                            }
                         } else if want.film > p.critical_film {
                             1
                         } else if want.moment_on_ball == Vector3::zeros() {
@@ -247,15 +264,46 @@ mod tests {
                             3
                         };
                         kinds[kind] += 1;
-                        // (on the axis to rounding: the early return)
-                        if p.clearance - want.film < 1e-12 {
-                            kinds[4] += 1;
-                        }
                     }
                 }
             }
         }
         // no load, squeeze only, Hertz without and with friction, on the axis
         assert!(kinds.iter().all(|&n| n > 0), "{kinds:?}");
+        // pressed into a still cage's pocket, at rest: Hertz load, friction on, no slip
+        let still = CageMotion {
+            centre: Vector3::zeros(),
+            velocity: Vector3::zeros(),
+            rot: cardan(0.0, 0.0, 0.0),
+            spin_angle: 0.0,
+            omega: Vector3::zeros(),
+        };
+        let pocket = Azimuth::new(0.0);
+        let (centre, _) = pocket_centre_and_axis(&p, &still, &pocket);
+        let across = still.rot * pocket.e_t();
+        let ball = BallMotion {
+            centre: centre + (p.clearance + 1e-6) * across,
+            velocity: Vector3::zeros(),
+            omega: Vector3::zeros(),
+        };
+        let want = pocket_contact(
+            &p,
+            &still,
+            &pocket,
+            &ball.centre,
+            &ball.velocity,
+            &ball.omega,
+        );
+        assert!(want.normal > 0.0 && want.moment_on_ball == Vector3::zeros());
+        let mut got = [PocketResult::default()];
+        pocket_contacts(&p, &still, &[pocket], &[ball], &mut got);
+        assert_eq!(
+            (
+                got[0].normal.to_bits(),
+                got[0].force_on_ball.map(f64::to_bits)
+            ),
+            (want.normal.to_bits(), want.force_on_ball.map(f64::to_bits))
+        );
+        assert_eq!(got[0].moment_on_ball, Vector3::zeros());
     }
 }

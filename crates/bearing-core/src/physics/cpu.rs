@@ -3,8 +3,9 @@
 //! The release build targets the baseline x86-64 (SSE2), so that the binary runs on any
 //! x86-64 processor, and under Debian's valgrind 3.19, which stopped on an instruction of a
 //! whole build for x86-64-v3. `physics::race_contact::race_contact` (and
-//! `physics::race_contact_lanes::race_contacts`) is compiled a second time with AVX2 and FMA
-//! enabled and chosen here (valgrind runs that copy);
+//! `physics::race_contact_lanes::race_contacts`, and `physics::cage_pocket_lanes::pocket_contacts`)
+//! is compiled a second time with AVX2 and FMA enabled and chosen here (valgrind runs that
+//! copy);
 //! `BEARING_SIM_CPU=baseline` keeps the baseline copy, for instruction counts comparable
 //! with builds before it. Measured: docs/lab/benchmarks.md, "AVX2".
 

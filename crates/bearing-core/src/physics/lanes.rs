@@ -1,5 +1,6 @@
 //! Four numbers side by side: what lets four ball-race contacts run as one
-//! ([`super::race_contact_lanes`]).
+//! ([`super::race_contact_lanes`]), and four ball-pocket interactions
+//! ([`super::cage_pocket_lanes`]).
 //!
 //! Why: one contact is a chain of dependent square roots, divisions, logarithms and
 //! exponentials, about 16 of them, each waiting on the last (docs/lab/benchmarks.md, "One
