@@ -145,27 +145,30 @@ pub fn pocket_contact(
     out
 }
 
+/// A pocket of the Table-1 bearing's size, for the tests here and in
+/// [`super::cage_pocket_lanes`].
+#[cfg(test)]
+pub(super) fn example_params() -> PocketParams {
+    PocketParams {
+        clearance: 0.167e-3,
+        pocket_radius: 18e-3,
+        hertz: HertzContact {
+            k: 1.0e9,
+            a_coef: 1e-4,
+            b_coef: 1e-4,
+        },
+        critical_film: 0.8e-6,
+        viscosity: 4.44e-3,
+        ball_radius: 2.778e-3,
+        friction: 0.08,
+        damping_ratio: 0.05,
+        damping_mass: 0.7e-3,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn params() -> PocketParams {
-        PocketParams {
-            clearance: 0.167e-3,
-            pocket_radius: 18e-3,
-            hertz: HertzContact {
-                k: 1.0e9,
-                a_coef: 1e-4,
-                b_coef: 1e-4,
-            },
-            critical_film: 0.8e-6,
-            viscosity: 4.44e-3,
-            ball_radius: 2.778e-3,
-            friction: 0.08,
-            damping_ratio: 0.05,
-            damping_mass: 0.7e-3,
-        }
-    }
 
     fn cage_at_rest() -> CageMotion {
         CageMotion {
@@ -184,7 +187,7 @@ mod tests {
 
     #[test]
     fn centred_ball_feels_nothing_and_radial_motion_changes_no_film() {
-        let p = params();
+        let p = example_params();
         let z = Vector3::zeros();
         let r = pocket_contact(&p, &cage_at_rest(), &Azimuth::new(0.0), &ball_at(z), &z, &z);
         assert_eq!(r.normal, 0.0);
@@ -213,7 +216,7 @@ mod tests {
     #[test]
     fn ball_past_the_critical_film_is_pushed_back_by_hertz() {
         // 1 um past the critical film, at rest: Q = K (1e-6)^1.5 = 1 N for K = 1e9 N/m^1.5
-        let p = params();
+        let p = example_params();
         let z = Vector3::zeros();
         let off = Vector3::new(0.0, p.clearance - p.critical_film + 1e-6, 0.0);
         let r = pocket_contact(
@@ -238,7 +241,7 @@ mod tests {
     #[test]
     fn squeeze_film_resists_approach_and_never_pulls() {
         // 20 um of film, ball approaching the wall at 0.1 m/s: F = 6 pi eta R^2 v / h
-        let p = params();
+        let p = example_params();
         let z = Vector3::zeros();
         let h = 20e-6;
         let off = Vector3::new(0.0, p.clearance - h, 0.0);
@@ -273,7 +276,7 @@ mod tests {
     fn sliding_ball_in_contact_gets_coulomb_friction_against_its_slip() {
         // Ball spinning about X at 100 rad/s against the wall on +Y: surface speed 0.28 m/s
         // along Z at the contact, far above the 1 cm/s regularisation, so |F_t| = mu Q.
-        let p = params();
+        let p = example_params();
         let off = Vector3::new(0.0, p.clearance - p.critical_film + 1e-6, 0.0);
         let w = Vector3::new(100.0, 0.0, 0.0);
         let r = pocket_contact(

@@ -8,6 +8,7 @@
 //! (`super::cpu`).
 
 use super::cage_pocket::{CageMotion, PocketParams, PocketResult, FRICTION_REGULARIZATION};
+use super::cpu::twice_compiled;
 use super::frames::Azimuth;
 use super::lanes::{F64x4, Vec3x4, LANES};
 use super::race_contact::BallMotion;
@@ -26,26 +27,19 @@ pub fn pocket_contacts(
     debug_assert!(pockets.len() == balls.len() && balls.len() == out.len());
     let groups = pockets.chunks(LANES).zip(balls.chunks(LANES));
     for ((pockets, balls), out) in groups.zip(out.chunks_mut(LANES)) {
-        #[cfg(target_arch = "x86_64")]
-        if super::cpu::wide_vectors() {
-            // SAFETY: the processor has AVX2 and FMA, checked at run time.
-            unsafe { group_avx2(p, cage, pockets, balls, out) };
-            continue;
-        }
-        group(p, cage, pockets, balls, out);
+        pockets_of_group(p, cage, pockets, balls, out);
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn group_avx2(
-    p: &PocketParams,
-    cage: &CageMotion,
-    pockets: &[Azimuth],
-    balls: &[BallMotion],
-    out: &mut [PocketResult],
-) {
-    group(p, cage, pockets, balls, out)
+twice_compiled! {
+    /// One group, in the copy this processor runs (`super::cpu`).
+    fn pockets_of_group(
+        p: &PocketParams,
+        cage: &CageMotion,
+        pockets: &[Azimuth],
+        balls: &[BallMotion],
+        out: &mut [PocketResult],
+    ) = group, wide group_avx2;
 }
 
 /// Up to [`LANES`] balls (a short group repeats its last ball in lanes not read).
@@ -79,11 +73,7 @@ fn group(
     let w_perp = w - axis.scale(w.dot(axis));
     let dist = w_perp.norm_squared().sqrt();
     let film = F64x4::splat(p.clearance) - dist;
-    let n = Vec3x4 {
-        x: w_perp.x / dist,
-        y: w_perp.y / dist,
-        z: w_perp.z / dist,
-    };
+    let n = w_perp.divided(dist);
     let r_contact = n.scale(F64x4::splat(p.ball_radius));
     let point = ball_centre + r_contact;
     let v_cage_pt =
@@ -115,18 +105,8 @@ fn group(
             / sp;
         let fr = v.scale(-scale);
         let slipping: [bool; LANES] = std::array::from_fn(|l| hertz.0[l] > 0.0 && sp.0[l] > 0.0);
-        let with = f_ball + fr;
-        let moment = r_contact.cross(fr);
-        f_ball = Vec3x4 {
-            x: F64x4::select(slipping, with.x, f_ball.x),
-            y: F64x4::select(slipping, with.y, f_ball.y),
-            z: F64x4::select(slipping, with.z, f_ball.z),
-        };
-        m_ball = Vec3x4 {
-            x: F64x4::select(slipping, moment.x, zero),
-            y: F64x4::select(slipping, moment.y, zero),
-            z: F64x4::select(slipping, moment.z, zero),
-        };
+        f_ball = Vec3x4::select(slipping, f_ball + fr, f_ball);
+        m_ball = Vec3x4::select(slipping, r_contact.cross(fr), Vec3x4::ZERO);
     }
     let on_cage = -f_ball;
     let moment_on_cage = (point - cage_centre).cross(on_cage);
@@ -150,9 +130,8 @@ fn group(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::physics::cage_pocket::{pocket_centre_and_axis, pocket_contact};
+    use crate::physics::cage_pocket::{example_params, pocket_centre_and_axis, pocket_contact};
     use crate::physics::frames::cardan;
-    use crate::physics::hertz::HertzContact;
     use nalgebra::Vector3;
 
     /// Every lane is `pocket_contact`'s result to the bit: balls from the pocket's axis out
@@ -163,21 +142,7 @@ mod tests {
     /// baseline one (`group`, called directly).
     #[test]
     fn pockets_side_by_side_are_the_pockets_one_by_one() {
-        let p = PocketParams {
-            clearance: 0.167e-3,
-            pocket_radius: 18e-3,
-            hertz: HertzContact {
-                k: 1.0e9,
-                a_coef: 1e-4,
-                b_coef: 1e-4,
-            },
-            critical_film: 0.8e-6,
-            viscosity: 4.44e-3,
-            ball_radius: 2.778e-3,
-            friction: 0.08,
-            damping_ratio: 0.05,
-            damping_mass: 0.7e-3,
-        };
+        let p = example_params();
         let cage = CageMotion {
             centre: Vector3::new(1e-6, -2e-5, 3e-5),
             velocity: Vector3::new(0.0, 1e-3, -2e-3),

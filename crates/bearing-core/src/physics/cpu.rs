@@ -2,17 +2,45 @@
 //!
 //! The release build targets the baseline x86-64 (SSE2), so that the binary runs on any
 //! x86-64 processor, and under Debian's valgrind 3.19, which stopped on an instruction of a
-//! whole build for x86-64-v3. `physics::race_contact::race_contact` (and
-//! `physics::race_contact_lanes::race_contacts`, and `physics::cage_pocket_lanes::pocket_contacts`)
-//! is compiled a second time with AVX2 and FMA enabled and chosen here (valgrind runs that
-//! copy);
-//! `BEARING_SIM_CPU=baseline` keeps the baseline copy, for instruction counts comparable
-//! with builds before it. Measured: docs/lab/benchmarks.md, "AVX2".
+//! whole build for x86-64-v3. The hot functions (`race_contact::race_contact`, a pass of
+//! `race_contact_lanes::race_contacts`, a group of `cage_pocket_lanes::pocket_contacts`)
+//! are declared with [`twice_compiled!`]: compiled a second time with AVX2 and FMA enabled,
+//! and that copy chosen here (valgrind runs it); `BEARING_SIM_CPU=baseline` keeps the
+//! baseline copy, for instruction counts comparable with builds before it. Measured:
+//! docs/lab/benchmarks.md, "AVX2".
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
 /// 0: not decided yet, 1: baseline, 2: AVX2 and FMA.
 static CHOICE: AtomicU8 = AtomicU8::new(0);
+
+/// Declares `fn name(args) -> ret` running `body(args)` (an `#[inline(always)]` function),
+/// compiled twice: as it is, and as `wide` with AVX2 and FMA enabled (x86-64 only; unsafe
+/// to call where the processor lacks them), the copy chosen at run time by
+/// [`wide_vectors`]. The two copies give the same numbers: neither fuses nor reorders an
+/// operation (Rust contracts nothing into FMA by itself); tests compare them.
+macro_rules! twice_compiled {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
+        = $body:path, wide $wide:ident;) => {
+        $(#[$meta])*
+        #[inline]
+        $vis fn $name($($arg: $ty),*) $(-> $ret)? {
+            #[cfg(target_arch = "x86_64")]
+            if $crate::physics::cpu::wide_vectors() {
+                // SAFETY: the processor has AVX2 and FMA, checked at run time.
+                return unsafe { $wide($($arg),*) };
+            }
+            $body($($arg),*)
+        }
+
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2,fma")]
+        unsafe fn $wide($($arg: $ty),*) $(-> $ret)? {
+            $body($($arg),*)
+        }
+    };
+}
+pub(crate) use twice_compiled;
 
 /// True when the contact code should run its AVX2 and FMA copy.
 #[inline]

@@ -319,6 +319,27 @@ impl Vec3x4 {
         }
     }
 
+    /// Lane by lane, `a`'s vector where `mask`, else `b`'s.
+    #[inline(always)]
+    pub fn select(mask: Mask4, a: Vec3x4, b: Vec3x4) -> Vec3x4 {
+        Vec3x4 {
+            x: F64x4::select(mask, a.x, b.x),
+            y: F64x4::select(mask, a.y, b.y),
+            z: F64x4::select(mask, a.z, b.z),
+        }
+    }
+
+    /// Each lane's vector divided by that lane's `s` (component by component, as
+    /// `nalgebra`'s vector over a number).
+    #[inline(always)]
+    pub fn divided(self, s: F64x4) -> Vec3x4 {
+        Vec3x4 {
+            x: self.x / s,
+            y: self.y / s,
+            z: self.z / s,
+        }
+    }
+
     /// `v` in every lane.
     #[inline(always)]
     pub fn splat(v: &nalgebra::Vector3<f64>) -> Vec3x4 {

@@ -1,6 +1,7 @@
 //! Ball-race contact: geometry (eqs. 2-7), Hertz load (eq. 8), EHL traction by strips
 //! over the contact ellipse (eqs. 9-18) and the defect modification (eqs. 34-36).
 
+use super::cpu::twice_compiled;
 use super::defect::{race_defects_effect, DefectEffect, RaceDefect};
 use super::frames::Azimuth;
 use super::hertz::{cube_root, HertzContact};
@@ -209,34 +210,17 @@ pub fn contact_geometry(
     }
 }
 
-/// Full contact: Hertz load with damping, defect modification, traction by strips.
-///
-/// Compiled twice: for the baseline x86-64 and, chosen at run time, for processors with
-/// AVX2 and FMA (`super::cpu`), where the strip loop's arithmetic runs in wider vectors;
-/// the two give the same numbers (no operation is fused or reordered).
-pub fn race_contact(
-    race: &Race,
-    ring: &RingMotion,
-    ball: &BallMotion,
-    p: &ContactParams,
-) -> ContactResult {
-    #[cfg(target_arch = "x86_64")]
-    if super::cpu::wide_vectors() {
-        // SAFETY: the processor has AVX2 and FMA, checked at run time.
-        return unsafe { race_contact_avx2(race, ring, ball, p) };
-    }
-    race_contact_body(race, ring, ball, p)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn race_contact_avx2(
-    race: &Race,
-    ring: &RingMotion,
-    ball: &BallMotion,
-    p: &ContactParams,
-) -> ContactResult {
-    race_contact_body(race, ring, ball, p)
+twice_compiled! {
+    /// Full contact: Hertz load with damping, defect modification, traction by strips.
+    ///
+    /// Compiled twice (`super::cpu`): with AVX2 and FMA the strip loop's arithmetic runs in
+    /// wider vectors; the two copies give the same numbers.
+    pub fn race_contact(
+        race: &Race,
+        ring: &RingMotion,
+        ball: &BallMotion,
+        p: &ContactParams,
+    ) -> ContactResult = race_contact_body, wide race_contact_avx2;
 }
 
 #[inline(always)]

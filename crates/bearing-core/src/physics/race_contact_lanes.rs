@@ -9,6 +9,7 @@
 //! passes 1e150 takes the scalar law's. Compiled twice, as `race_contact` is
 //! (`super::cpu`).
 
+use super::cpu::twice_compiled;
 use super::frames::Azimuth;
 use super::lanes::{F64x4, Vec3x4, LANES};
 use super::race_contact::{
@@ -36,13 +37,7 @@ pub fn race_contacts(
         return;
     };
     for (pass, o) in balls.chunks(PASS).zip(out.chunks_mut(PASS)) {
-        #[cfg(target_arch = "x86_64")]
-        if super::cpu::wide_vectors() {
-            // SAFETY: the processor has AVX2 and FMA, checked at run time.
-            unsafe { contacts_avx2(race, law, ring, pass, p, o) };
-            continue;
-        }
-        contacts_body(race, law, ring, pass, p, o);
+        contacts_of_pass(race, law, ring, pass, p, o);
     }
 }
 
@@ -51,17 +46,16 @@ pub fn race_contacts(
 /// group's four lanes seldom hold more than one.
 pub const PASS: usize = 4 * LANES;
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn contacts_avx2(
-    race: &Race,
-    law: &RheologyTraction,
-    ring: &RingMotion,
-    balls: &[BallMotion],
-    p: &ContactParams,
-    out: &mut [ContactResult],
-) {
-    contacts_body(race, law, ring, balls, p, out)
+twice_compiled! {
+    /// One pass, in the copy this processor runs (`super::cpu`).
+    fn contacts_of_pass(
+        race: &Race,
+        law: &RheologyTraction,
+        ring: &RingMotion,
+        balls: &[BallMotion],
+        p: &ContactParams,
+        out: &mut [ContactResult],
+    ) = contacts_body, wide contacts_avx2;
 }
 
 /// One pass of up to [`PASS`] balls: each group's forces, the cell means, each group's

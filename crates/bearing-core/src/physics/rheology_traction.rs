@@ -610,11 +610,7 @@ impl StripLawX4 {
         let (point, huge_point) = self.mu_over_s(s2.sqrt());
         let blend = mean.scale(w) + v.scale((one - w) * point);
         let whole = one.le(w);
-        let out = Vec3x4 {
-            x: F64x4::select(whole, mean.x, blend.x),
-            y: F64x4::select(whole, mean.y, blend.y),
-            z: F64x4::select(whole, mean.z, blend.z),
-        };
+        let out = Vec3x4::select(whole, mean, blend);
         let huge = std::array::from_fn(|l| huge_mean[l] || (!whole[l] && huge_point[l]));
         (out, huge)
     }
@@ -625,11 +621,7 @@ impl StripLawX4 {
         let zero = F64x4::splat(0.0);
         let lim = F64x4::splat(self.limiting);
         let l = l2.sqrt();
-        let e = Vec3x4 {
-            x: span.x / l,
-            y: span.y / l,
-            z: span.z / l,
-        };
+        let e = span.divided(l);
         let t = v.dot(e);
         let p = v - e.scale(t);
         let d2 = p.norm_squared();
@@ -669,11 +661,7 @@ impl StripLawX4 {
         let simpson = piece * ((mu_a + 4.0 * mu_mid + mu_b) / F64x4::splat(6.0) - lim);
         let integral = lim * whole + F64x4::select(smooth_part, simpson, zero);
         let across = p.scale(integral / l) + e.scale(along);
-        let mean = Vec3x4 {
-            x: F64x4::select(only_along, along * e.x, across.x),
-            y: F64x4::select(only_along, along * e.y, across.y),
-            z: F64x4::select(only_along, along * e.z, across.z),
-        };
+        let mean = Vec3x4::select(only_along, e.scale(along), across);
         let huge = std::array::from_fn(|k| !only_along[k] && smooth_part[k] && huge[k]);
         (mean, huge)
     }
