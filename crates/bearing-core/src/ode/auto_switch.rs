@@ -104,8 +104,8 @@ const UP: f64 = 1.0;
 /// equilibrium can exceed the stability limit before any unstable mode has grown.
 const SETTLE: u64 = 50;
 
-pub struct AutoSwitch {
-    explicit: ExplicitRk,
+pub struct AutoSwitch<E = ExplicitRk> {
+    explicit: E,
     implicit: Rosenbrock,
     on_implicit: bool,
     /// Method to use from the next attempt (a switch waits until the solver has read the
@@ -122,19 +122,15 @@ pub struct AutoSwitch {
     prices: Prices,
 }
 
-impl AutoSwitch {
+impl<E> AutoSwitch<E> {
     /// `explicit` must be controlled through a first-same-as-last estimate (its step-end
     /// derivative is the solver's next first stage).
-    pub fn new(explicit: ExplicitRk, implicit: Rosenbrock) -> Self {
+    pub fn new(explicit: E, implicit: Rosenbrock) -> Self {
         Self::with_rule(explicit, implicit, SwitchRule::StepHistory)
     }
 
     /// As [`AutoSwitch::new`], switching by `rule`.
-    pub fn with_rule(explicit: ExplicitRk, implicit: Rosenbrock, rule: SwitchRule) -> Self {
-        assert!(
-            explicit.f_new().is_some(),
-            "the explicit method must evaluate its step end (first same as last)"
-        );
+    pub fn with_rule(explicit: E, implicit: Rosenbrock, rule: SwitchRule) -> Self {
         AutoSwitch {
             explicit,
             implicit,
@@ -204,7 +200,7 @@ impl AutoSwitch {
     }
 }
 
-impl<S: JacobianSystem> Method<S> for AutoSwitch {
+impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
     fn attempt(
         &mut self,
         sys: &mut S,
@@ -226,7 +222,7 @@ impl<S: JacobianSystem> Method<S> for AutoSwitch {
         if self.on_implicit {
             self.implicit.attempt_step(sys, t, y, f0, h, stats)
         } else {
-            self.explicit.attempt_step(sys, t, y, f0, h, t_end, stats)
+            self.explicit.attempt(sys, t, y, f0, h, t_end, stats)
         }
     }
 
@@ -234,7 +230,7 @@ impl<S: JacobianSystem> Method<S> for AutoSwitch {
         if self.on_implicit {
             self.implicit.y_new()
         } else {
-            self.explicit.y_new()
+            Method::<S>::y_new(&self.explicit)
         }
     }
 
@@ -242,7 +238,7 @@ impl<S: JacobianSystem> Method<S> for AutoSwitch {
         if self.on_implicit {
             None
         } else {
-            self.explicit.f_new()
+            Method::<S>::f_new(&self.explicit)
         }
     }
 
@@ -277,6 +273,14 @@ impl<S: JacobianSystem> Method<S> for AutoSwitch {
             self.switches += 1;
         }
         f
+    }
+
+    fn step_limit(&self) -> Option<f64> {
+        if self.on_implicit {
+            None
+        } else {
+            self.explicit.step_limit()
+        }
     }
 
     fn reject_factor(&mut self, err: f64) -> f64 {

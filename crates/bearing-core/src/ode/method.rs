@@ -30,6 +30,10 @@ pub trait Method<S: OdeSystem> {
     fn accept_factor(&mut self, err: f64) -> f64;
     /// Factor for the retry after a rejected one.
     fn reject_factor(&mut self, err: f64) -> f64;
+    /// Largest step the method itself can take accurately from here, s (`None`: no limit).
+    fn step_limit(&self) -> Option<f64> {
+        None
+    }
     /// False for a fixed-step method: every step is the initial step.
     fn controlled(&self) -> bool {
         true

@@ -118,6 +118,7 @@ impl<M> Solver<M> {
             let remaining = lim.t_end - self.t;
             let mut h = if self.method.controlled() {
                 let h = self.h.min(lim.max_step);
+                let h = self.method.step_limit().map_or(h, |l| h.min(l));
                 sys.step_limit(self.t, &self.y).map_or(h, |l| h.min(l))
             } else {
                 lim.initial_step
