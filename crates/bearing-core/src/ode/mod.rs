@@ -7,8 +7,9 @@
 //!   state after a step;
 //! - a method ([`method::Method`]) proposes one step and its error: an explicit
 //!   Runge-Kutta method given by its tableau ([`explicit_rk::ExplicitRk`] over
-//!   [`tableau`]), the Rosenbrock-W method ([`rosenbrock::Rosenbrock`]), or the switch
-//!   between them ([`auto_switch::AutoSwitch`]); every controlled method measures its error
+//!   [`tableau`]), the exponential RK4 around a linear part the problem names
+//!   ([`etd_rk4::EtdRk4`]), the Rosenbrock-W method ([`rosenbrock::Rosenbrock`]), or the
+//!   switch between an explicit one and it ([`auto_switch::AutoSwitch`]); every controlled method measures its error
 //!   with the one [`error_norm::ErrorNorm`] and sizes its next step with the one
 //!   [`controller::Controller`];
 //! - the solver ([`solver::Solver`]) owns the state: accept and reject, landing on the end
@@ -45,6 +46,7 @@ pub mod control;
 pub mod controller;
 pub mod error;
 pub mod error_norm;
+pub mod etd_rk4;
 pub mod explicit_rk;
 pub mod hermite;
 pub mod method;
