@@ -158,7 +158,7 @@ pub struct Job {
 /// it does not see a loosened validation bound, a change of the analysis request's sample
 /// or shaft rate, or of the signal blob's encoding (bump for those by hand). Format 1 is every input stored before
 /// the column existed.
-pub const INPUT_FORMAT: i64 = 6;
+pub const INPUT_FORMAT: i64 = 7;
 
 /// What a submission stores.
 #[derive(Debug, Clone)]

@@ -52,6 +52,11 @@ const FINGERPRINTS: &[(i64, &str)] = &[
         6,
         "9778746895dd500bec95c468368f4e342e29daa0e8cf35a02b8a17a5e98834b7",
     ),
+    // the `etd_rk4` and `auto_etd` integrators (an older worker cannot parse them)
+    (
+        7,
+        "368fa02748d862044f7cbadfa6235e44a58ce9f2f344f4a4608562b02a9c7ef8",
+    ),
 ];
 
 /// Keys that document a schema without changing what parses.

@@ -302,7 +302,7 @@ async function newView(gen) {
   const general = h("div", { class: "grid" },
     field("name", "Job name", "", { text: true, range: "blank: the preset's name for the fault case" }),
     fieldsWithPreset,
-    field("solver.integrator", "Integrator", scene.solver.integrator, { options: ["auto_slip", "rk4_fsal", "slip_implicit", "rk4_adaptive", "rk4_fixed", "rosenbrock_w", "auto"] }),
+    field("solver.integrator", "Integrator", scene.solver.integrator, { options: ["auto_slip", "auto_etd", "etd_rk4", "rk4_fsal", "slip_implicit", "rk4_adaptive", "rk4_fixed", "rosenbrock_w", "auto"] }),
     field("solver.fidelity", "Fidelity level", scene.solver.fidelity || "full", { options: ["full", "quasi_static_balls", "concentric_cage"] }));
   const caseFaults = () => preset.fault_case_faults?.[caseSelect.value]?.faults || [];
   const renderFaults = () => {

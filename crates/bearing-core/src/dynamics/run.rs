@@ -5,13 +5,16 @@ use super::averages::Averages;
 use super::error_scale::scales;
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
-use super::system::{ball_velocity_jacobian, bearing_jacobian, BearingSystem, JacobianScope};
+use super::system::{
+    ball_velocity_jacobian, bearing_jacobian, linear_part, BearingSystem, JacobianScope,
+};
 use super::window::steady_window;
 use crate::model::Model;
 use crate::ode::auto_switch::{AutoSwitch, SwitchRule};
 use crate::ode::control::RunControl;
 use crate::ode::error::SolveError;
 use crate::ode::error_norm::ErrorNorm;
+use crate::ode::etd_rk4::EtdRk4;
 use crate::ode::explicit_rk::ExplicitRk;
 use crate::ode::method::Method;
 use crate::ode::rosenbrock::Rosenbrock;
@@ -67,6 +70,19 @@ pub fn integrate(
         Integrator::SlipImplicit => {
             sys.scope = JacobianScope::BallVelocities;
             let method = slip_implicit(n, norm, m);
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::EtdRk4 => {
+            let method = EtdRk4::new(n, norm, linear_part(m));
+            let solver = Solver::new(&mut sys, method, y0, limits);
+            drive(solver, &mut sys, scene, ctl)
+        }
+        Integrator::AutoEtd => {
+            sys.scope = JacobianScope::BallVelocities;
+            let explicit = EtdRk4::new(n, norm.clone(), linear_part(m));
+            let implicit = slip_implicit(n, norm, m);
+            let method = AutoSwitch::with_rule(explicit, implicit, SwitchRule::MeasuredCost);
             let solver = Solver::new(&mut sys, method, y0, limits);
             drive(solver, &mut sys, scene, ctl)
         }

@@ -6,6 +6,7 @@ use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
 use crate::ode::block_jacobian::{difference_step, BlockJacobian};
+use crate::ode::etd_rk4::{LinearPart, Oscillator};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock_tableau::ROS34PRW_EXPLICIT_STABILITY;
 use std::ops::Range;
@@ -279,6 +280,55 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
         .map(|k| (0..l.balls).map(|j| l.ball(j) + k).collect())
         .collect();
     BlockJacobian::partial(blocks, groups)
+}
+
+/// What [`EtdRk4`] takes exactly on the bearing: each ball's contact oscillator (its
+/// axial and radial position and velocity on its two Hertz contacts, whose modes ring at
+/// ~58 kHz and hold RK4's step to ~7.6 us; docs/lab/benchmarks.md, "Where the stiffness
+/// is") and the relaxation of its rolling spin `w_t` (the traction's slip relaxation,
+/// 4e5 1/s at 10000 rpm, which holds RK4 to ~7 us once the contact modes are taken).
+/// Balls do not act on each other directly, so every ball's column goes in one
+/// difference: three right-hand sides per linearisation.
+///
+/// - Position step 1e-9 m: a thousandth of the contact deformation at the preset's loads
+///   (a few um), so the secant is the tangent stiffness within about 1e-3, far above
+///   rounding (positions ~2e-2 m carry ulps of 3e-18 m). A mismatch costs no accuracy,
+///   only step size: what `L` misses stays in the explicit remainder.
+/// - Spin step 1e-2 rad/s: a slip speed of about 3e-5 m/s at the contact, inside the
+///   traction curve's linear part.
+/// - The spins about the axis and the radius (`w_x`, `w_r`) are left out: taken as well
+///   they saved 2-5 % of the Table-1 case's steps for one or two more differences per
+///   linearisation (docs/lab/benchmarks.md).
+/// - Modes slower than 1e3 rad/s stay explicit: an RK4 step of at most 1e-4 s resolves
+///   them (`omega h` <= 0.1).
+/// - 20 steps per linearisation: on the Table-1 case 1, 5 and 20 took the same steps
+///   within 1.5 %.
+/// - `omega h` <= pi on the fastest contact mode ([`LinearPart::alias_limit`]).
+/// - Quasi-static balls (their centres algebraic, their velocity slots forces) have no
+///   oscillator.
+///
+/// [`EtdRk4`]: crate::ode::etd_rk4::EtdRk4
+pub fn linear_part(m: &Model) -> LinearPart {
+    let l = &m.layout;
+    let oscillators = (0..l.balls)
+        .filter(|_| !m.quasi_static_balls)
+        .map(|j| {
+            let b = l.ball(j);
+            Oscillator {
+                pos: [b + ball::X, b + ball::R],
+                vel: [b + ball::X_DOT, b + ball::R_DOT],
+            }
+        })
+        .collect();
+    LinearPart {
+        oscillators,
+        position_step: 1e-9,
+        relaxing: vec![(0..l.balls).map(|j| l.ball(j) + ball::W_T).collect()],
+        relaxing_step: 1e-2,
+        slowest: 1e3,
+        max_age: 20,
+        alias_limit: std::f64::consts::PI,
+    }
 }
 
 /// Every body's slots, one range each: each ball's, the inner ring's, the outer ring's and

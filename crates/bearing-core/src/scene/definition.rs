@@ -417,6 +417,15 @@ pub enum Integrator {
     /// the explicit method being the accurate one for the contact modes
     /// (docs/reference/model.md, "Time integration").
     AutoSlip,
+    /// The exponential Runge-Kutta method ETDRK4 (order 4, RK4_FSAL's error estimate), exact
+    /// on each ball's contact oscillator (its axial and radial motion on its two Hertz
+    /// contacts, linearised by differences every 20 steps) and on the relaxation of its
+    /// rolling spin `w_t`: the contact modes neither damped nor held to RK4's stability
+    /// limit (docs/reference/model.md, "Time integration").
+    EtdRk4,
+    /// `etd_rk4` and `slip_implicit` under `auto_slip`'s measured-cost rule: `slip_implicit`
+    /// where the balls' whole slip relaxation is stiff (low speed), `etd_rk4` elsewhere.
+    AutoEtd,
 }
 
 /// How much of the model a run integrates (docs/reference/model.md, "Fidelity levels").

@@ -786,6 +786,7 @@ mod tests {
                 Integrator::Auto,
                 Integrator::SlipImplicit,
                 Integrator::AutoSlip,
+                Integrator::AutoEtd,
             ] {
                 s.solver.integrator = integrator;
                 assert!(s.validate().is_ok(), "{fidelity:?} {integrator:?}");
