@@ -89,7 +89,7 @@ def submit_form(page, base, duration, **fields):
         page.fill(f'[name="{name}"]', str(value))
     expect(page.locator("#patch")).to_contain_text(f'"duration": {duration}')
     # the form starts from the preset's integrator, not the first option it lists
-    expect(page.locator("#patch")).to_contain_text('"integrator": "auto_slip"')
+    expect(page.locator("#patch")).to_contain_text('"integrator": "auto_etd"')
     page.click("button[type=submit]")
 
 

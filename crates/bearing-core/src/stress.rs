@@ -53,8 +53,9 @@ impl StressScene {
 /// Cost factors against the reference, the Table-1 bearing at its steady 10000 rpm under the
 /// preset's physics. Scenes that only move the operating point keep the step limit of the
 /// ball-race contact modes: measured 0.43-2.73x at 20 ms and 0.1 s (2026-11-29; 0.5-2.2x
-/// under the paper's model), so 4x leaves room for the start-up transient of short runs and
-/// for defect edges.
+/// under the paper's model; 0.53-3.22x at 0.1 s on 2026-11-30 under `auto_etd`, against a
+/// reference 0.85 times as costly as `auto_slip`'s), so 4x leaves room for the start-up
+/// transient of short runs and for defect edges.
 const SAME_COST: f64 = 4.0;
 
 /// With the cage whirling on its land film (eccentricity ~0.95 at 60000 rpm), `rk4_fsal`'s
@@ -63,7 +64,8 @@ const SAME_COST: f64 = 4.0;
 /// and 174x against today's, 2026-11-29). The factor states the pathology;
 /// `limit_speed_auto` is the remedy, and under the preset's physics `auto_slip`'s step does
 /// not collapse there (`limit_speed`, 0.89x). The test suite's 20 ms run stays far below the
-/// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost.
+/// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
+/// (205.67x on 2026-11-30 against `auto_etd`'s cheaper reference).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its
@@ -85,14 +87,15 @@ const FAST_START_WHIRL: f64 = 60.0;
 /// small explicit steps), 2.0x at 60 ms, 1.85x at 0.1 s, under the paper's model and
 /// against its reference (1.74x and 1.63x against today's, 2026-11-29); so the test runs it
 /// for 60 ms. (Under the preset's physics `auto` measured 2.90x at 60 ms and 2.18x at 0.1 s,
-/// where `auto_slip` needs 1.2x.)
+/// where `auto_slip` needs 1.2x; on 2026-11-30 `fast_ramp_auto` 1.93x at 0.1 s against
+/// `auto_etd`'s cheaper reference.)
 const FAST_START_AUTO: f64 = 3.0;
 
 /// At 1 Pa s the cage land and pocket films are stiff for an explicit method (their
 /// damping grows with the viscosity): under the paper's model with `rk4_fsal` measured 47x
 /// at 20 ms and 58x at 0.1 s; under the preset's law `auto_slip` takes them implicitly,
-/// 3.42x at 10 ms and 3.24x at 0.1 s (2026-11-29). 8x would catch the explicit method's
-/// collapse coming back.
+/// 3.42x at 10 ms and 3.24x at 0.1 s (2026-11-29; `auto_etd` 3.76x at 0.1 s against its
+/// cheaper reference, 2026-11-30). 8x would catch the explicit method's collapse coming back.
 const VERY_VISCOUS: f64 = 8.0;
 
 /// The catalogue, reference first.

@@ -392,7 +392,7 @@ pub enum Integrator {
     Rk4Fixed,
     /// Classical RK4 with step-size control from its first-same-as-last stage (an
     /// embedded 3rd-order estimate at no extra evaluation); the default of a scene that
-    /// names none (the preset names `auto_slip`): the same accuracy as `rk4_adaptive` at
+    /// names none (the preset names `auto_etd`): the same accuracy as `rk4_adaptive` at
     /// 1e-6 for about 70 % of its evaluations (docs/lab/benchmarks.md).
     #[default]
     Rk4Fsal,
@@ -410,7 +410,7 @@ pub enum Integrator {
     /// modes, with RK4's stability and about its damping on them (docs/reference/model.md,
     /// "Time integration").
     SlipImplicit,
-    /// The preset's. `rk4_fsal` and `slip_implicit`, each in turn challenged by the other, priced in
+    /// The preset's until 2026-11-30. `rk4_fsal` and `slip_implicit`, each in turn challenged by the other, priced in
     /// right-hand sides per simulated second as the run goes: `slip_implicit` takes the run
     /// where it costs at most 0.6 of `rk4_fsal` (where the balls' slip relaxation holds
     /// the explicit step, at low speed) and gives it back where it costs more than 0.9,

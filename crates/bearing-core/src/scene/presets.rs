@@ -199,7 +199,7 @@ fn h7005c() -> Scene {
             // The rheology law (Roelands at each strip's Hertz pressure, Eyring thinning, a
             // limiting shear stress proportional to pressure, the Hamrock-Dowson film; the
             // film's elastic compliance left out): the law that gives the paper's cage lag
-            // (BPFO below eq. 37, BPFI above), with `auto_slip` below taking its stiff slip
+            // (BPFO below eq. 37, BPFI above), with `auto_etd` below taking its stiff slip
             // relaxation (docs/reference/model.md, "Traction laws"). The paper's eq. 15 curve is `Traction::PAPER_CURVE` (`abcd`).
             traction: Traction::RHEOLOGY,
             critical_film_ball_cage: 0.8e-6,
@@ -250,10 +250,12 @@ fn h7005c() -> Scene {
         faults: vec![],
         solver: Solver {
             duration: 0.5,
-            // the law's slip relaxes in ~1e-7 s: `auto_slip` takes it implicitly where that
-            // is cheaper (low speed) and the contact modes explicitly, undamped
-            // (docs/reference/model.md, "Solver and integrators")
-            integrator: Integrator::AutoSlip,
+            // the law's slip relaxes in ~1e-7 s: `auto_etd` takes it implicitly where that
+            // is cheaper (low speed), and elsewhere the contact oscillators and the rolling
+            // spin's relaxation exactly, undamped, the rest explicitly: 0.76 of `auto_slip`'s
+            // time on the Table-1 case at the same accuracy (docs/reference/model.md,
+            // "Solver and integrators"; docs/lab/benchmarks.md)
+            integrator: Integrator::AutoEtd,
             ..Solver::default()
         },
         outputs: Outputs::default(),

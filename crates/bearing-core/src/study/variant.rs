@@ -26,7 +26,7 @@ impl LubricantVariant {
     }
 
     /// The seed paper's lubricant: no drag, no rolling resistance, the eq. 15 curve (the
-    /// base's integrator stays: the preset's `auto_slip`, where the paper's model as the
+    /// base's integrator stays: the preset's `auto_etd`, where the paper's model as the
     /// lab docs ran it used `rk4_fsal`).
     pub fn paper() -> Self {
         LubricantVariant {
