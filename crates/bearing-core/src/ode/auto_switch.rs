@@ -201,6 +201,21 @@ impl<E> AutoSwitch<E> {
 }
 
 impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
+    /// The switch takes effect here, before the step is chosen, so that the method in
+    /// use bounds it ([`Method::step_limit`]) and begins it.
+    fn begin_attempt(&mut self, sys: &mut S, t: f64, y: &[f64], f0: &[f64], stats: &mut StepStats) {
+        if let Some(to_implicit) = self.pending.take() {
+            self.on_implicit = to_implicit;
+            if to_implicit {
+                self.implicit.refresh_jacobian();
+            }
+        }
+        self.measured_cost_check(t, stats.rhs_evals);
+        if !self.on_implicit {
+            self.explicit.begin_attempt(sys, t, y, f0, stats);
+        }
+    }
+
     fn attempt(
         &mut self,
         sys: &mut S,
@@ -211,18 +226,17 @@ impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
         t_end: f64,
         stats: &mut StepStats,
     ) -> f64 {
-        if let Some(to_implicit) = self.pending.take() {
-            self.on_implicit = to_implicit;
-            if to_implicit {
-                self.implicit.refresh_jacobian();
-            }
-        }
         self.last_h = h;
-        self.measured_cost_check(t, stats.rhs_evals);
         if self.on_implicit {
             self.implicit.attempt_step(sys, t, y, f0, h, stats)
         } else {
-            self.explicit.attempt(sys, t, y, f0, h, t_end, stats)
+            let err = self.explicit.attempt(sys, t, y, f0, h, t_end, stats);
+            // its step-end derivative is the solver's next first stage
+            debug_assert!(
+                Method::<S>::f_new(&self.explicit).is_some(),
+                "the explicit method must evaluate its step end (first same as last)"
+            );
+            err
         }
     }
 

@@ -30,6 +30,19 @@ pub trait Method<S: OdeSystem> {
     fn accept_factor(&mut self, err: f64) -> f64;
     /// Factor for the retry after a rejected one.
     fn reject_factor(&mut self, err: f64) -> f64;
+    /// Called before each attempt's step is chosen, at its start `(t, y)` with
+    /// `f0 = f(t, y)` (a retry calls it again at the same point): a method that linearises
+    /// the problem does it here, so that [`Method::step_limit`] describes the step about to
+    /// be chosen; the right-hand sides it spends go to `stats`.
+    fn begin_attempt(
+        &mut self,
+        _sys: &mut S,
+        _t: f64,
+        _y: &[f64],
+        _f0: &[f64],
+        _stats: &mut StepStats,
+    ) {
+    }
     /// Largest step the method itself can take accurately from here, s (`None`: no limit).
     fn step_limit(&self) -> Option<f64> {
         None

@@ -114,6 +114,8 @@ impl<M> Solver<M> {
     {
         let lim = self.limits;
         loop {
+            self.method
+                .begin_attempt(sys, self.t, &self.y, &self.f, &mut self.stats);
             let proposal = self.h;
             let remaining = lim.t_end - self.t;
             let mut h = if self.method.controlled() {
