@@ -149,7 +149,7 @@ fn fidelity_compares_each_level_with_full() {
     assert_eq!(qs.len(), 2, "{table}");
     assert_eq!(
         (qs[0][1], qs[0][2], qs[0][3]),
-        ("auto_slip", "3", "equal_strips"),
+        ("auto_etd", "3", "equal_strips"),
         "{table}"
     );
     assert_eq!(qs[1][3], "gauss", "{table}");

@@ -62,8 +62,8 @@ const SAME_COST: f64 = 4.0;
 /// step under the paper's model falls to ~1e-8 s: measured 10x at 20 ms and 180-215x at
 /// 0.1 s as the whirl builds up (against the paper's model's own reference, 2026-11-24; 6.1x
 /// and 174x against today's, 2026-11-29). The factor states the pathology;
-/// `limit_speed_auto` is the remedy, and under the preset's physics `auto_slip`'s step does
-/// not collapse there (`limit_speed`, 0.89x). The test suite's 20 ms run stays far below the
+/// `limit_speed_auto` is the remedy, and under the preset's physics the step does not
+/// collapse there (`limit_speed`: `auto_slip` 0.89x; `auto_etd` 1.03x, 2026-11-30). The test suite's 20 ms run stays far below the
 /// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
 /// (205.67x on 2026-11-30 against `auto_etd`'s cheaper reference).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
@@ -75,8 +75,9 @@ const AUTO_AT_LIMIT_SPEED: f64 = 5.0;
 /// The fast start's whirl under the paper's model (the eq. 15 curve with `rk4_fsal`, the
 /// preset's until 2026-11-29; docs/lab/benchmarks.md, "Pathologies"): measured 9x at 20 ms,
 /// 19x at 60 ms, 39x at 0.1 s against that model's reference, 7.8x at 20 ms and 34x at 0.1 s
-/// against today's (2026-11-29). Under the preset's physics `auto_slip` takes the land film
-/// into its Jacobian and the same start costs 1.2x at 20 ms (`fast_ramp`).
+/// against today's (2026-11-29). Under the preset's physics the implicit method takes the
+/// land film into its Jacobian and the same start costs 1.2x at 20 ms (`fast_ramp`, under
+/// `auto_slip`; 1.11x at 0.1 s under `auto_etd`, 2026-11-30).
 const FAST_START_WHIRL: f64 = 60.0;
 
 /// The fast start with `auto`: issue 10 asks for a fast start within 3x of the Table-1

@@ -4,7 +4,8 @@
 //! tracked. Each run is short (about a second of solver time in release).
 //!
 //! Asserted: what the verdict achieves (issue 35), under the preset's physics (the rheology
-//! law with rolling resistance and `auto_slip`, the default since 2026-11-29). There the
+//! law with rolling resistance, the default since 2026-11-29, and the preset's integrator:
+//! `auto_slip` until 2026-11-30, `auto_etd` since; the assertions hold under both). There the
 //! cage's lag puts each race's harmonics on the other race's ball-return comb, whose higher
 //! orders the race accepted first takes only where they rank as a family
 //! (docs/lab/cwru.md, "The ball-return comb").

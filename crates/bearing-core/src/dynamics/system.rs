@@ -302,7 +302,8 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 /// - Modes slower than 1e3 rad/s stay explicit: an RK4 step of at most 1e-4 s resolves
 ///   them (`omega h` <= 0.1).
 /// - 20 steps per linearisation: on the Table-1 case 1, 5 and 20 took the same steps
-///   within 1.5 %.
+///   within 1.5 % (65 962, 66 175 and 65 216 accepted, measured with Lawson's form of the
+///   same split, not kept; docs/lab/benchmarks.md).
 /// - `omega h` <= pi on the fastest contact mode ([`LinearPart::alias_limit`]).
 /// - Quasi-static balls (their centres algebraic, their velocity slots forces) have no
 ///   oscillator.
