@@ -1,5 +1,6 @@
 //! Uniform output sampling: the state is interpolated at every output instant inside a
-//! step and the forces the channels read (the pedestal rows of the right-hand side and,
+//! step (cubic Hermite, with what the method interpolates better itself overwritten:
+//! `Method::refine_dense`) and the forces the channels read (the pedestal rows of the right-hand side and,
 //! when asked for, one ball's contact loads) evaluated there.
 
 use super::ball_equilibrium::BalanceTrack;
@@ -56,7 +57,9 @@ impl Recorder {
         }
     }
 
-    /// Record every output sample in `(t, t + h]` (or at t when h = 0).
+    /// Record every output sample in `(t, t + h]` (or at t when h = 0). `refine`, given
+    /// the fraction of the step and the state interpolated there, may overwrite the
+    /// components the method that took the step interpolates better itself.
     #[allow(clippy::too_many_arguments)]
     pub fn sample(
         &mut self,
@@ -68,6 +71,7 @@ impl Recorder {
         y1: &[f64],
         f1: &[f64],
         track: Option<&BalanceTrack>,
+        refine: &dyn Fn(f64, &mut [f64]) -> bool,
     ) {
         let c = m.layout.cage;
         let i = m.layout.inner;
@@ -95,6 +99,9 @@ impl Recorder {
             // band RMS depend on where the steps fell.)
             for k in 0..y0.len() {
                 self.scratch_y[k] = interp(k);
+            }
+            if h > 0.0 {
+                refine(s, &mut self.scratch_y);
             }
             if track.is_some() && m.quasi_static_balls {
                 // `track` describes the balance at the step's end: start from it there

@@ -143,6 +143,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
         solver.y(),
         solver.f(),
         Some(&sys.track),
+        &|_, _| false,
     );
     while !solver.finished() {
         if let Some(c) = cancel {
@@ -161,6 +162,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
             last.y1,
             last.f1,
             Some(&sys.track),
+            &|s, out| solver.refine_dense::<BearingSystem<'m>>(s, out),
         );
         let t_new = solver.t();
         if t_new > w0 {

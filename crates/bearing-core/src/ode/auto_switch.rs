@@ -289,6 +289,20 @@ impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
         f
     }
 
+    fn refine_dense(
+        &self,
+        s: f64,
+        h: f64,
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+        out: &mut [f64],
+    ) -> bool {
+        // the switch waits for the next attempt: the method in use took the last step
+        !self.on_implicit && self.explicit.refine_dense(s, h, y0, f0, y1, f1, out)
+    }
+
     fn step_limit(&self) -> Option<f64> {
         if self.on_implicit {
             None

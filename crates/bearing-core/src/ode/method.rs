@@ -43,6 +43,22 @@ pub trait Method<S: OdeSystem> {
         _stats: &mut StepStats,
     ) {
     }
+    /// After an accepted step (before the next begins): overwrite in `out`, the cubic
+    /// Hermite interpolant at fraction `s` of the step of `h` from `(y0, f0)` to `(y1, f1)`,
+    /// the components the method interpolates better itself; false if it has none.
+    #[allow(clippy::too_many_arguments)]
+    fn refine_dense(
+        &self,
+        _s: f64,
+        _h: f64,
+        _y0: &[f64],
+        _f0: &[f64],
+        _y1: &[f64],
+        _f1: &[f64],
+        _out: &mut [f64],
+    ) -> bool {
+        false
+    }
     /// Largest step the method itself can take accurately from here, s (`None`: no limit).
     fn step_limit(&self) -> Option<f64> {
         None

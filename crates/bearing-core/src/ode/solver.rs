@@ -94,6 +94,23 @@ impl<M> Solver<M> {
         self.t >= self.limits.t_end
     }
 
+    /// Let the method overwrite, in `out` (the cubic Hermite interpolant at fraction `s` of
+    /// the last step), the components it interpolates better itself.
+    pub fn refine_dense<S: OdeSystem>(&self, s: f64, out: &mut [f64]) -> bool
+    where
+        M: Method<S>,
+    {
+        self.method.refine_dense(
+            s,
+            self.h_last,
+            &self.y_prev,
+            &self.f_prev,
+            &self.y,
+            &self.f,
+            out,
+        )
+    }
+
     /// The state at `t` inside the last step (cubic Hermite, 4th order), into `out`.
     pub fn interpolate(&self, t: f64, out: &mut [f64]) {
         let h = self.h_last;
