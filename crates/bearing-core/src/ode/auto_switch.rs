@@ -36,7 +36,7 @@
 //! found within a doubling.
 
 use super::explicit_rk::ExplicitRk;
-use super::method::Method;
+use super::method::{LastStep, Method};
 use super::problem::JacobianSystem;
 use super::rosenbrock::Rosenbrock;
 use super::stats::StepStats;
@@ -289,18 +289,9 @@ impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
         f
     }
 
-    fn refine_dense(
-        &self,
-        s: f64,
-        h: f64,
-        y0: &[f64],
-        f0: &[f64],
-        y1: &[f64],
-        f1: &[f64],
-        out: &mut [f64],
-    ) -> bool {
+    fn refine_dense(&self, step: &LastStep<'_>, s: f64, out: &mut [f64]) -> bool {
         // the switch waits for the next attempt: the method in use took the last step
-        !self.on_implicit && self.explicit.refine_dense(s, h, y0, f0, y1, f1, out)
+        !self.on_implicit && self.explicit.refine_dense(step, s, out)
     }
 
     fn step_limit(&self) -> Option<f64> {

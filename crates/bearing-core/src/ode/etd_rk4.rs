@@ -33,7 +33,7 @@
 use super::controller::Controller;
 use super::error_norm::ErrorNorm;
 use super::hermite::hermite;
-use super::method::Method;
+use super::method::{LastStep, Method};
 use super::problem::OdeSystem;
 use super::stats::StepStats;
 
@@ -536,16 +536,10 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
     /// the ringing: a Hermite interpolant of `y` itself misses a pure ringing over a step
     /// of half a period (`omega h = pi`) by about 10 % of its amplitude RMS, 21 % at the
     /// worst phase. A mode left to the remainder keeps the plain interpolant.
-    fn refine_dense(
-        &self,
-        s: f64,
-        h: f64,
-        y0: &[f64],
-        f0: &[f64],
-        y1: &[f64],
-        f1: &[f64],
-        out: &mut [f64],
-    ) -> bool {
+    fn refine_dense(&self, step: &LastStep<'_>, s: f64, out: &mut [f64]) -> bool {
+        let LastStep {
+            h, y0, f0, y1, f1, ..
+        } = *step;
         if h <= 0.0 {
             return false;
         }
@@ -905,6 +899,31 @@ mod tests {
         );
     }
 
+    /// One step of `h` from `y0` at t = 0 and, at fraction `s` of it, the method's
+    /// interpolant and the state's cubic Hermite interpolant it refines.
+    fn interpolants(mut sys: Coupled, y0: [f64; 5], h: f64, s: f64) -> (Vec<f64>, Vec<f64>) {
+        let mut m = stepper(1);
+        let mut f0 = [0.0; 5];
+        sys.rhs(0.0, &y0, &mut f0);
+        m.attempt(&mut sys, 0.0, &y0, &f0, h, h, &mut StepStats::default());
+        let y1 = Method::<Coupled>::y_new(&m).to_vec();
+        let f1 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
+        let plain: Vec<f64> = (0..5)
+            .map(|k| hermite(y0[k], f0[k], y1[k], f1[k], h, s))
+            .collect();
+        let mut refined = plain.clone();
+        let step = LastStep {
+            t: 0.0,
+            h,
+            y0: &y0,
+            f0: &f0,
+            y1: &y1,
+            f1: &f1,
+        };
+        assert!(Method::<Coupled>::refine_dense(&m, &step, s, &mut refined));
+        (refined, plain)
+    }
+
     /// Inside one step of `omega h` = 3 on the fast mode, the method's interpolant of a
     /// linear oscillator under a constant force is the exact solution to rounding (its
     /// transformed variable is constant), where the cubic Hermite interpolant of the state
@@ -915,20 +934,8 @@ mod tests {
         sys.relax = 0.0;
         let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
         let h = 0.03;
-        let mut m = stepper(20);
-        let mut f0 = [0.0; 5];
-        sys.rhs(0.0, &y0, &mut f0);
-        m.attempt(&mut sys, 0.0, &y0, &f0, h, h, &mut StepStats::default());
-        let y1 = Method::<Coupled>::y_new(&m).to_vec();
-        let f1 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
         for s in [0.25, 0.5, 0.8] {
-            let mut out: Vec<f64> = (0..5)
-                .map(|k| hermite(y0[k], f0[k], y1[k], f1[k], h, s))
-                .collect();
-            let plain = out.clone();
-            assert!(Method::<Coupled>::refine_dense(
-                &m, s, h, &y0, &f0, &y1, &f1, &mut out
-            ));
+            let (out, plain) = interpolants(sys, y0, h, s);
             let exact = exact_linear(&sys, y0, s * h);
             // positions ~1e-2 m, velocities ~1 m/s; the linearisation by differences is
             // exact to ~1e-10 relative
@@ -964,20 +971,8 @@ mod tests {
         sys.relax = 50.0;
         let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
         let s = 0.5;
-        let mut errors = move |h: f64| {
-            let mut m = stepper(1);
-            let mut f0 = [0.0; 5];
-            sys.rhs(0.0, &y0, &mut f0);
-            m.attempt(&mut sys, 0.0, &y0, &f0, h, h, &mut StepStats::default());
-            let y1 = Method::<Coupled>::y_new(&m).to_vec();
-            let f1 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
-            let mut out: Vec<f64> = (0..5)
-                .map(|k| hermite(y0[k], f0[k], y1[k], f1[k], h, s))
-                .collect();
-            let plain = out.clone();
-            assert!(Method::<Coupled>::refine_dense(
-                &m, s, h, &y0, &f0, &y1, &f1, &mut out
-            ));
+        let errors = |h: f64| {
+            let (out, plain) = interpolants(sys, y0, h, s);
             let fine = fixed(sys, &mut stepper(1), y0, s * h / 200.0, s * h);
             let err = |v: &[f64]| (0..2).map(|k| (v[k] - fine[k]).abs()).fold(0.0, f64::max);
             (err(&out), err(&plain))

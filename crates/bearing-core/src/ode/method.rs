@@ -44,19 +44,9 @@ pub trait Method<S: OdeSystem> {
     ) {
     }
     /// After an accepted step (before the next begins): overwrite in `out`, the cubic
-    /// Hermite interpolant at fraction `s` of the step of `h` from `(y0, f0)` to `(y1, f1)`,
-    /// the components the method interpolates better itself; false if it has none.
-    #[allow(clippy::too_many_arguments)]
-    fn refine_dense(
-        &self,
-        _s: f64,
-        _h: f64,
-        _y0: &[f64],
-        _f0: &[f64],
-        _y1: &[f64],
-        _f1: &[f64],
-        _out: &mut [f64],
-    ) -> bool {
+    /// Hermite interpolant at fraction `s` of `step`, the components the method
+    /// interpolates better itself; false if it has none.
+    fn refine_dense(&self, _step: &LastStep<'_>, _s: f64, _out: &mut [f64]) -> bool {
         false
     }
     /// Largest step the method itself can take accurately from here, s (`None`: no limit).
@@ -67,4 +57,15 @@ pub trait Method<S: OdeSystem> {
     fn controlled(&self) -> bool {
         true
     }
+}
+
+/// One accepted step as the output sampling and a method's dense output read it.
+pub struct LastStep<'a> {
+    /// Start, s, and size, s.
+    pub t: f64,
+    pub h: f64,
+    pub y0: &'a [f64],
+    pub f0: &'a [f64],
+    pub y1: &'a [f64],
+    pub f1: &'a [f64],
 }

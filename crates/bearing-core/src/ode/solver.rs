@@ -6,7 +6,7 @@
 
 use super::error::SolveError;
 use super::hermite::hermite;
-use super::method::Method;
+use super::method::{LastStep, Method};
 use super::problem::OdeSystem;
 use super::stats::StepStats;
 
@@ -100,15 +100,7 @@ impl<M> Solver<M> {
     where
         M: Method<S>,
     {
-        self.method.refine_dense(
-            s,
-            self.h_last,
-            &self.y_prev,
-            &self.f_prev,
-            &self.y,
-            &self.f,
-            out,
-        )
+        self.method.refine_dense(&self.last_step(), s, out)
     }
 
     /// The state at `t` inside the last step (cubic Hermite, 4th order), into `out`.
@@ -213,17 +205,6 @@ impl<M> Solver<M> {
             return Ok(h);
         }
     }
-}
-
-/// One accepted step as the output sampling reads it.
-pub struct LastStep<'a> {
-    /// Start, s, and size, s.
-    pub t: f64,
-    pub h: f64,
-    pub y0: &'a [f64],
-    pub f0: &'a [f64],
-    pub y1: &'a [f64],
-    pub f1: &'a [f64],
 }
 
 #[cfg(test)]
