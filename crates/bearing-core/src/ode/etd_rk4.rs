@@ -331,6 +331,14 @@ impl EtdRk4 {
         self.ops_for = h;
     }
 
+    /// Each oscillator with its modes and its step's operators.
+    fn oscillators(
+        &self,
+    ) -> impl Iterator<Item = (&Oscillator, &Modes, &[[ModeOperator; OPS]; 2])> {
+        let parts = self.part.oscillators.iter().zip(&self.modes);
+        parts.zip(&self.mode_ops).map(|((o, md), ops)| (o, md, ops))
+    }
+
     /// `out = sum_i coef_i op_i(v_i)` over every component: the operators' values with `L`
     /// zero outside the blocks, their matrices on them.
     fn combine(&self, out: &mut [f64], terms: &[(usize, f64, &[f64])]) {
@@ -355,13 +363,7 @@ impl EtdRk4 {
                 .map(|&(op, c, v)| c * self.relax_ops[k][op] * v[i])
                 .sum();
         }
-        for ((o, md), ops) in self
-            .part
-            .oscillators
-            .iter()
-            .zip(&self.modes)
-            .zip(&self.mode_ops)
-        {
+        for (o, md, ops) in self.oscillators() {
             let (c, s) = (md.c, md.s);
             let mut q = [0.0; 2];
             let mut u = [0.0; 2];
@@ -547,13 +549,7 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
         // the step's own operators hold e^{hL/2}: e^{hL} by the double angle, without a
         // sine per sample
         let prepared = h == self.ops_for;
-        for ((o, md), ops) in self
-            .part
-            .oscillators
-            .iter()
-            .zip(&self.modes)
-            .zip(&self.mode_ops)
-        {
+        for (o, md, ops) in self.oscillators() {
             if md.w == [0.0, 0.0] {
                 // both modes left to the remainder: the plain interpolant, untouched
                 continue;
@@ -667,6 +663,18 @@ mod tests {
         }
     }
 
+    /// The linear system with a cubic spring on the first position and a slow cosine
+    /// force on both, the relaxation 50 1/s.
+    fn nonlinear() -> Coupled {
+        Coupled {
+            beta: -2e5,
+            a: 30.0,
+            nu: 7.0,
+            relax: 50.0,
+            ..linear()
+        }
+    }
+
     fn part(max_age: u32) -> LinearPart {
         LinearPart {
             oscillators: vec![Oscillator {
@@ -770,6 +778,20 @@ mod tests {
         assert_eq!(phis(0.0, 0.0)[3], (1.0 / 6.0, 0.0));
     }
 
+    /// Positions within `pos` (m) and velocities within `vel` (m/s) of the exact ones.
+    fn assert_near(y: &[f64], exact: &[f64; 4], pos: f64, vel: f64, what: &str) {
+        for i in 0..2 {
+            let (p, v) = ((y[i] - exact[i]).abs(), (y[i + 2] - exact[i + 2]).abs());
+            assert!(p < pos, "{what}: position {i} {} vs {}", y[i], exact[i]);
+            assert!(
+                v < vel,
+                "{what}: velocity {i} {} vs {}",
+                y[i + 2],
+                exact[i + 2]
+            );
+        }
+    }
+
     #[test]
     fn exact_on_a_forced_linear_oscillator_at_steps_rk4_cannot_take() {
         // omega h = 5 on the fast mode, beyond RK4's 2.83; 400 steps, about 320 periods
@@ -782,20 +804,7 @@ mod tests {
         // amplitudes ~0.01 m and ~1 m/s; the linearisation by differences is exact to
         // rounding over its 1e-6 step (relative 1e-10 in the stiffness), which over 320
         // periods moves the phase by ~1e-7 rad
-        for i in 0..2 {
-            assert!(
-                (y[i] - exact[i]).abs() < 1e-8,
-                "position {i}: {} vs {}",
-                y[i],
-                exact[i]
-            );
-            assert!(
-                (y[i + 2] - exact[i + 2]).abs() < 1e-6,
-                "velocity {i}: {} vs {}",
-                y[i + 2],
-                exact[i + 2]
-            );
-        }
+        assert_near(&y, &exact, 1e-8, 1e-6, "after 400 steps");
         // RK4 at the same step blows up
         let rk = fixed(
             sys,
@@ -817,11 +826,7 @@ mod tests {
 
     #[test]
     fn fourth_order_on_a_nonlinear_forced_oscillator() {
-        let mut sys = linear();
-        sys.beta = -2e5;
-        sys.a = 30.0;
-        sys.nu = 7.0;
-        sys.relax = 50.0;
+        let sys = nonlinear();
         let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
         let t_end = 0.4;
         let reference = fixed(sys, &mut stepper(1), y0, 1e-5, t_end);
@@ -939,18 +944,7 @@ mod tests {
             let exact = exact_linear(&sys, y0, s * h);
             // positions ~1e-2 m, velocities ~1 m/s; the linearisation by differences is
             // exact to ~1e-10 relative
-            for k in 0..2 {
-                assert!(
-                    (out[k] - exact[k]).abs() < 1e-10,
-                    "s {s} position {k}: {} vs {}",
-                    out[k],
-                    exact[k]
-                );
-                assert!(
-                    (out[k + 2] - exact[k + 2]).abs() < 1e-8,
-                    "s {s} velocity {k}"
-                );
-            }
+            assert_near(&out, &exact, 1e-10, 1e-8, &format!("at s = {s}"));
             let plain_error = (0..2)
                 .map(|k| (plain[k] - exact[k]).abs())
                 .fold(0.0, f64::max);
@@ -964,11 +958,7 @@ mod tests {
     /// order one (16 per halving; measured 37, above 10 asked).
     #[test]
     fn dense_output_converges_on_a_nonlinear_oscillator() {
-        let mut sys = linear();
-        sys.beta = -2e5;
-        sys.a = 30.0;
-        sys.nu = 7.0;
-        sys.relax = 50.0;
+        let sys = nonlinear();
         let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
         let s = 0.5;
         let errors = |h: f64| {
