@@ -6,7 +6,7 @@ use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
 use crate::ode::block_jacobian::{difference_step, BlockJacobian};
-use crate::ode::etd_rk4::{LinearPart, Oscillator};
+use crate::ode::etd_rk4::{LinearPart, Oscillator, RelaxingGroup};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock_tableau::ROS34PRW_EXPLICIT_STABILITY;
 use std::ops::Range;
@@ -282,28 +282,46 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
     BlockJacobian::partial(blocks, groups)
 }
 
-/// What [`EtdRk4`] takes exactly on the bearing: each ball's contact oscillator (its
-/// axial and radial position and velocity on its two Hertz contacts, whose modes ring at
-/// ~58 kHz and hold RK4's step to ~7.6 us; docs/lab/benchmarks.md, "Where the stiffness
-/// is") and the relaxation of its rolling spin `w_t` (the traction's slip relaxation,
-/// 4e5 1/s at 10000 rpm, which holds RK4 to ~7 us once the contact modes are taken).
+/// What [`EtdRk4`] takes exactly on the bearing:
+///
+/// - each ball's contact oscillator (its axial and radial position and velocity on its two
+///   Hertz contacts, whose modes ring at ~58 kHz and hold RK4's step to ~7.6 us;
+///   docs/lab/benchmarks.md, "Where the stiffness is"), with each mode's own damping
+///   where it passes 1e5 1/s: at low speed the traction's resistance to the ball's axial
+///   sliding makes the soft mode overdamped, -1.2e6 1/s near 1500 rpm on the Table-1
+///   case's loaded balls, which held `etd_rk4` to ~2 us there (docs/lab/benchmarks.md,
+///   "The sliding ball's damping taken exactly");
+/// - the relaxation of the rolling spin `w_t` and of the spin about the axis `w_x` (the
+///   traction's slip relaxation: `w_t` at 1.1e5 1/s and `w_x` at 5.8e4 1/s on a loaded
+///   ball at 10000 rpm, both near 1e6 1/s at 1000-2000 rpm);
+/// - the cage's radial velocities, which its land film damps.
+///
 /// Balls do not act on each other directly, so every ball's column goes in one
-/// difference: three right-hand sides per linearisation.
+/// difference: eight right-hand sides per linearisation.
 ///
 /// - Position step 1e-9 m: a thousandth of the contact deformation at the preset's loads
 ///   (a few um), so the secant is the tangent stiffness within about 1e-3, far above
 ///   rounding (positions ~2e-2 m carry ulps of 3e-18 m). A mismatch costs no accuracy,
 ///   only step size: what `L` misses stays in the explicit remainder.
-/// - Spin step 1e-2 rad/s: a slip speed of about 3e-5 m/s at the contact, inside the
-///   traction curve's linear part.
-/// - The spins about the axis and the radius (`w_x`, `w_r`) are left out: taken as well
-///   they saved 2-5 % of the Table-1 case's steps for one or two more differences per
-///   linearisation (docs/lab/benchmarks.md).
-/// - Modes slower than 1e3 rad/s stay explicit: an RK4 step of at most 1e-4 s resolves
-///   them (`omega h` <= 0.1).
-/// - 20 steps per linearisation: on the Table-1 case 1, 5 and 20 took the same steps
-///   within 1.5 % (65 962, 66 175 and 65 216 accepted, measured with Lawson's form of the
-///   same split, not kept; docs/lab/benchmarks.md).
+/// - Velocity step 3e-5 m/s, and spin step 1e-2 rad/s (a slip speed of about 3e-5 m/s at
+///   the contact): inside the traction curve's linear part, which reaches a few mm/s at the
+///   preset's loads. The Table-1 case took the same steps within 0.5 % at 1e-5 and 1e-4
+///   m/s.
+/// - Cage velocity step 1e-5 m/s, small beside its whirl (eccentricity ~1e-5 m at ~440
+///   rad/s, ~4e-3 m/s).
+/// - The spin along the radius `w_r` and the orbital speed are left out: at 1000-5000 rpm
+///   they couple to `w_x` too strongly for a diagonal rate (a 3x3 block would be needed;
+///   taken diagonally, the orbital speed cost steps).
+/// - Modes slower than 1e3 rad/s (rates, 1/s) stay explicit: an RK4 step of at most
+///   1e-4 s resolves them (`omega h` <= 0.1).
+/// - Damping below 1e5 1/s stays explicit: at the alias bound's ~8.5 us step its `c h` is
+///   below 1, within RK4's reach. That leaves the contact damping (ratio 0.05,
+///   docs/reference/model.md's defaults; 2 zeta omega = 3.7e4 1/s at 58 kHz) in the
+///   remainder: taken exactly as well it saved another 4 % of the steps but moved the
+///   35-51 kHz band 1.9 % (s.e. 0.25 %) below the reference, against 0.8 % without it.
+/// - 80 steps per linearisation: on the Table-1 case 20, 40 and 80 took the same steps
+///   within 0.4 % (65 591, 65 666, 65 805 accepted) for 2 % fewer evaluations at each
+///   doubling.
 /// - `omega h` <= pi on the fastest contact mode ([`LinearPart::alias_limit`]).
 /// - Quasi-static balls (their centres algebraic, their velocity slots forces) have no
 ///   oscillator.
@@ -321,13 +339,27 @@ pub fn linear_part(m: &Model) -> LinearPart {
             }
         })
         .collect();
+    let every_ball = |slot: usize| RelaxingGroup {
+        components: (0..l.balls).map(|j| l.ball(j) + slot).collect(),
+        step: 1e-2,
+    };
+    let cage_velocity = |slot: usize| RelaxingGroup {
+        components: vec![l.cage + slot],
+        step: 1e-5,
+    };
     LinearPart {
         oscillators,
         position_step: 1e-9,
-        relaxing: vec![(0..l.balls).map(|j| l.ball(j) + ball::W_T).collect()],
-        relaxing_step: 1e-2,
+        velocity_step: Some(3e-5),
+        slowest_damping: 1e5,
+        relaxing: vec![
+            every_ball(ball::W_T),
+            every_ball(ball::W_X),
+            cage_velocity(cage::Y_DOT),
+            cage_velocity(cage::Z_DOT),
+        ],
         slowest: 1e3,
-        max_age: 20,
+        max_age: 80,
         alias_limit: std::f64::consts::PI,
     }
 }
