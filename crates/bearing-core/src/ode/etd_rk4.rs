@@ -173,14 +173,24 @@ const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
 /// `F(s^2) = 2 F(0) - F(-s^2) + O(s^4)`, the complex step at `i |s|` reflected about the
 /// critical value.
 fn damped_operator(w: f64, c: f64, tau: f64, form: [f64; 4]) -> ModeOperator {
+    block_operator([[0.0, 1.0], [-(w * w), -c]], tau, form)
+}
+
+/// `g(tau A)` on any real 2x2 matrix `A`, as [`damped_operator`] (whose mode matrix is
+/// one): `A`'s eigenvalues are `alpha +- sqrt(alpha^2 - det)`, `alpha` half its trace, and
+/// `g(tau A) = E I + D tau (A - alpha I)`.
+fn block_operator(a: [[f64; 2]; 2], tau: f64, form: [f64; 4]) -> ModeOperator {
     let g = |x: f64, y: f64| {
         let p = phis(x, y);
         let re = (0..4).map(|k| form[k] * p[k].0).sum::<f64>();
         let im = (0..4).map(|k| form[k] * p[k].1).sum::<f64>();
         (re, im)
     };
-    let alpha = -0.5 * c;
-    let disc = 0.25 * c * c - w * w;
+    let alpha = 0.5 * (a[0][0] + a[1][1]);
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    let disc = alpha * alpha - det;
+    // the complex step's scale where the eigenvalues meet
+    let scale = (2.0 * alpha.abs()).max(det.abs().sqrt());
     let m = tau * alpha;
     // (E, D) at s = i y, y != 0
     let complex_step = |y: f64| {
@@ -188,20 +198,24 @@ fn damped_operator(w: f64, c: f64, tau: f64, form: [f64; 4]) -> ModeOperator {
         (re, im / y)
     };
     let (e, d) = if disc <= 0.0 {
-        // at exactly critical a step of 1e-9 of the damping, O(1e-18) off
-        complex_step(tau * (-disc).sqrt().max(1e-9 * c.abs()))
+        // at exactly critical a step of 1e-9 of the rates, O(1e-18) off
+        complex_step(tau * (-disc).sqrt().max(1e-9 * scale))
     } else if (tau * disc.sqrt()).abs() >= 1e-3 {
         let s = tau * disc.sqrt();
         let (gp, gm) = (g(m + s, 0.0).0, g(m - s, 0.0).0);
         (0.5 * (gp + gm), (gp - gm) / (2.0 * s))
     } else {
-        let (e0, d0) = complex_step(tau * 1e-9 * c.abs());
+        let (e0, d0) = complex_step(tau * 1e-9 * scale);
         let (e1, d1) = complex_step(tau * disc.sqrt());
         (2.0 * e0 - e1, 2.0 * d0 - d1)
     };
-    // E I + D tau (L - alpha I), L - alpha I = [[c/2, 1], [-w^2, -c/2]]
     let b = d * tau;
-    [e + 0.5 * c * b, b, -w * w * b, e - 0.5 * c * b]
+    [
+        e + b * (a[0][0] - alpha),
+        b * a[0][1],
+        b * a[1][0],
+        e + b * (a[1][1] - alpha),
+    ]
 }
 
 /// Largest `c h` of a damped mode the dense output follows: `e^{-hL}` grows as
