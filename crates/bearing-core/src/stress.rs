@@ -53,8 +53,8 @@ impl StressScene {
 /// Cost factors against the reference, the Table-1 bearing at its steady 10000 rpm under the
 /// preset's physics. Scenes that only move the operating point keep the step limit of the
 /// ball-race contact modes: measured 0.43-2.73x at 20 ms and 0.1 s (2026-11-29; 0.5-2.2x
-/// under the paper's model; 0.54-3.39x at 0.1 s on 2026-11-30 under `auto_etd`, against a
-/// reference 0.80 times as costly as `auto_slip`'s), so 4x leaves room for the start-up
+/// under the paper's model; 0.58-3.37x at 0.1 s on 2026-11-30 under `auto_etd`, against a
+/// reference 0.81 times as costly as `auto_slip`'s), so 4x leaves room for the start-up
 /// transient of short runs and for defect edges.
 const SAME_COST: f64 = 4.0;
 
@@ -65,7 +65,7 @@ const SAME_COST: f64 = 4.0;
 /// `limit_speed_auto` is the remedy, and under the preset's physics the step does not
 /// collapse there (`limit_speed`: `auto_slip` 0.89x; `auto_etd` 1.08x, 2026-11-30). The test suite's 20 ms run stays far below the
 /// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
-/// (216.07x on 2026-11-30 against `auto_etd`'s cheaper reference).
+/// (215.41x on 2026-11-30 against `auto_etd`'s cheaper reference).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its
@@ -95,9 +95,9 @@ const FAST_START_AUTO: f64 = 3.0;
 /// At 1 Pa s the cage land and pocket films are stiff for an explicit method (their
 /// damping grows with the viscosity): under the paper's model with `rk4_fsal` measured 47x
 /// at 20 ms and 58x at 0.1 s; under the preset's law `auto_slip` takes them implicitly,
-/// 3.42x at 10 ms and 3.24x at 0.1 s (2026-11-29; `auto_etd` 4.66x at 0.1 s against its
-/// cheaper reference, 2026-11-30: 2.261e6 evaluations per simulated second, 1.919e6
-/// before the sliding ball's damping was taken exactly). 8x would catch the explicit method's collapse coming back.
+/// 3.42x at 10 ms and 3.24x at 0.1 s (2026-11-29; `auto_etd` 2.59x at 0.1 s against its
+/// cheaper reference, 2026-11-30: 1.260e6 evaluations per simulated second, 1.919e6
+/// before the cage's velocities and spin relaxed exactly). 8x would catch the explicit method's collapse coming back.
 const VERY_VISCOUS: f64 = 8.0;
 
 /// The catalogue, reference first.
