@@ -290,7 +290,7 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 ///   where it passes 1e5 1/s: at low speed the traction's resistance to the ball's axial
 ///   sliding makes the soft mode overdamped, -1.2e6 1/s near 1500 rpm on the Table-1
 ///   case's loaded balls, which held `etd_rk4` to ~2 us there (docs/lab/benchmarks.md,
-///   "The sliding ball's damping taken exactly");
+///   "The sliding ball's damping and the cage taken exactly");
 /// - the relaxation of the rolling spin `w_t` and of the spin about the axis `w_x` (the
 ///   traction's slip relaxation: `w_t` at 1.1e5 1/s and `w_x` at 5.8e4 1/s on a loaded
 ///   ball at 10000 rpm, both near 1e6 1/s at 1000-2000 rpm);
@@ -322,10 +322,10 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 ///   below 1, within RK4's reach. That leaves the contact damping (ratio 0.05,
 ///   docs/reference/model.md's defaults; 2 zeta omega = 3.7e4 1/s at 58 kHz) in the
 ///   remainder: taken exactly as well it saved another 4 % of the steps but moved the
-///   35-51 kHz band 1.9 % (s.e. 0.25 %) below the reference, against 0.8 % without it.
+///   35-51 kHz band 1.9 % (s.e. 0.25 %) below the reference, against 0.9 % without it.
 /// - 80 steps per linearisation: on the Table-1 case 20, 40 and 80 took the same steps
-///   within 0.4 % (65 591, 65 666, 65 805 accepted) for 2 % fewer evaluations at each
-///   doubling.
+///   within 0.3 % (65 591, 65 666, 65 780 accepted) for 3.7 % and 2.0 % fewer evaluations
+///   at the two doublings.
 /// - `omega h` <= pi on the fastest contact mode ([`LinearPart::alias_limit`]).
 /// - Quasi-static balls (their centres algebraic, their velocity slots forces) have no
 ///   oscillator.

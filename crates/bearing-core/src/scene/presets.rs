@@ -251,10 +251,11 @@ fn h7005c() -> Scene {
         solver: Solver {
             duration: 0.5,
             // the law's slip relaxes in ~1e-7 s: `auto_etd` takes it implicitly where that
-            // is cheaper (low speed), and elsewhere the contact oscillators and the rolling
-            // spin's relaxation exactly, undamped, the rest explicitly: 0.73-0.75 of `auto_slip`'s
-            // time on the Table-1 case at the same accuracy (docs/reference/model.md,
-            // "Solver and integrators"; docs/lab/benchmarks.md)
+            // is cheaper (low speed), and elsewhere the contact oscillators, the spins' and
+            // the cage's relaxations exactly, the contact modes never damped numerically,
+            // the rest explicitly: about 0.7 of `auto_slip`'s time on the Table-1 case, its
+            // band RMS within 1 % of a tight reference (docs/reference/model.md, "Solver and
+            // integrators"; docs/lab/benchmarks.md)
             integrator: Integrator::AutoEtd,
             ..Solver::default()
         },
