@@ -48,6 +48,7 @@ pub mod error;
 pub mod error_norm;
 pub mod etd_rk4;
 pub mod explicit_rk;
+mod exponential_operators;
 pub mod hermite;
 pub mod method;
 pub mod problem;
