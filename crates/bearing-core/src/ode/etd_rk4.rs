@@ -579,13 +579,16 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
             let mut u = modal(pick(out, o.vel));
             for i in 0..2 {
                 let (w, damping) = (md.w[i], md.damping[i]);
-                // the mode's fastest decay rate
-                let decay = 0.5 * damping + (0.25 * damping * damping - w * w).max(0.0).sqrt();
-                if w == 0.0 || decay * h > DENSE_DECAY_LIMIT {
+                if w == 0.0 {
                     continue;
                 }
                 let w2 = w * w;
                 if damping != 0.0 {
+                    // the mode's fastest decay rate
+                    let decay = 0.5 * damping + (0.25 * damping * damping - w2).max(0.0).sqrt();
+                    if decay * h > DENSE_DECAY_LIMIT {
+                        continue;
+                    }
                     let (qq, uu) = damped_dense(
                         w,
                         damping,

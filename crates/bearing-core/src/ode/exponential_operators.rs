@@ -82,23 +82,35 @@ const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
 /// `F(s^2) = 2 F(0) - F(-s^2) + O(s^4)`, the complex step at `i |s|` reflected about the
 /// critical value.
 pub(super) fn damped_operator(w: f64, c: f64, tau: f64, form: [f64; 4]) -> ModeOperator {
-    block_operator([[0.0, 1.0], [-(w * w), -c]], tau, form)
+    block_operators(mode_matrix(w, c), tau, [form])[0]
 }
 
-/// `g(tau A)` on any real 2x2 matrix `A`, as [`damped_operator`] (whose mode matrix is
-/// one): `A`'s eigenvalues are `alpha +- sqrt(alpha^2 - det)`, `alpha` half its trace, and
-/// `g(tau A) = E I + D tau (A - alpha I)`.
-fn block_operator(a: [[f64; 2]; 2], tau: f64, form: [f64; 4]) -> ModeOperator {
-    let g = |x: f64, y: f64| {
-        let p = phis(x, y);
+/// `L` of a mode of `w` rad/s damped at `c` 1/s.
+fn mode_matrix(w: f64, c: f64) -> [[f64; 2]; 2] {
+    [[0.0, 1.0], [-(w * w), -c]]
+}
+
+/// `g(tau A)` for each `g = sum_k form_k phi_k` of `forms` on any real 2x2 matrix `A`, as
+/// [`damped_operator`] (whose mode matrix is one): `A`'s eigenvalues are
+/// `alpha +- sqrt(alpha^2 - det)`, `alpha` half its trace, and
+/// `g(tau A) = E I + D tau (A - alpha I)`. The `phi` functions are evaluated once, at the
+/// points the branch needs, for all the forms.
+fn block_operators<const K: usize>(
+    a: [[f64; 2]; 2],
+    tau: f64,
+    forms: [[f64; 4]; K],
+) -> [ModeOperator; K] {
+    let sum = |p: &[(f64, f64); 4], form: &[f64; 4]| {
         let re = (0..4).map(|k| form[k] * p[k].0).sum::<f64>();
         let im = (0..4).map(|k| form[k] * p[k].1).sum::<f64>();
         (re, im)
     };
     if tau == 0.0 {
         // g(0) = sum form_k / k! (the complex step below would divide by zero)
-        let e = (0..4).map(|k| form[k] * INV_FACTORIAL[k]).sum::<f64>();
-        return [e, 0.0, 0.0, e];
+        return forms.map(|form| {
+            let e = (0..4).map(|k| form[k] * INV_FACTORIAL[k]).sum::<f64>();
+            [e, 0.0, 0.0, e]
+        });
     }
     let alpha = 0.5 * (a[0][0] + a[1][1]);
     let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
@@ -106,37 +118,53 @@ fn block_operator(a: [[f64; 2]; 2], tau: f64, form: [f64; 4]) -> ModeOperator {
     // the complex step's scale where the eigenvalues meet
     let scale = (2.0 * alpha.abs()).max(det.abs().sqrt());
     let m = tau * alpha;
-    // (E, D) at s = i y, y != 0
-    let complex_step = |y: f64| {
-        let (re, im) = g(m, y);
+    // (E, D) by the complex step at s = i y, y != 0, from the phi's at m + i y
+    let complex_step = |p: &[(f64, f64); 4], y: f64, form: &[f64; 4]| {
+        let (re, im) = sum(p, form);
         (re, im / y)
     };
-    let (e, d) = if disc <= 0.0 {
+    let ed: [(f64, f64); K] = if disc <= 0.0 {
         // at exactly critical a step of 1e-9 of the rates, O(1e-18) off
-        complex_step(tau * (-disc).sqrt().max(1e-9 * scale))
+        let y = tau * (-disc).sqrt().max(1e-9 * scale);
+        let p = phis(m, y);
+        forms.map(|form| complex_step(&p, y, &form))
     } else if (tau * disc.sqrt()).abs() >= 1e-3 {
         let s = tau * disc.sqrt();
-        let (gp, gm) = (g(m + s, 0.0).0, g(m - s, 0.0).0);
-        (0.5 * (gp + gm), (gp - gm) / (2.0 * s))
+        let (pp, pm) = (phis(m + s, 0.0), phis(m - s, 0.0));
+        forms.map(|form| {
+            let (gp, gm) = (sum(&pp, &form).0, sum(&pm, &form).0);
+            (0.5 * (gp + gm), (gp - gm) / (2.0 * s))
+        })
     } else {
-        let (e0, d0) = complex_step(tau * 1e-9 * scale);
-        let (e1, d1) = complex_step(tau * disc.sqrt());
-        (2.0 * e0 - e1, 2.0 * d0 - d1)
+        let (y0, y1) = (tau * 1e-9 * scale, tau * disc.sqrt());
+        let (p0, p1) = (phis(m, y0), phis(m, y1));
+        forms.map(|form| {
+            let (e0, d0) = complex_step(&p0, y0, &form);
+            let (e1, d1) = complex_step(&p1, y1, &form);
+            (2.0 * e0 - e1, 2.0 * d0 - d1)
+        })
     };
-    let b = d * tau;
-    [
-        e + b * (a[0][0] - alpha),
-        b * a[0][1],
-        b * a[1][0],
-        e + b * (a[1][1] - alpha),
-    ]
+    ed.map(|(e, d)| {
+        let b = d * tau;
+        [
+            e + b * (a[0][0] - alpha),
+            b * a[0][1],
+            b * a[1][0],
+            e + b * (a[1][1] - alpha),
+        ]
+    })
 }
 
 /// The five operators of a step of `h` on one oscillator mode of `w` rad/s, damped at `c`
 /// 1/s.
 pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     if c != 0.0 {
-        return OPERATOR_FORMS.map(|(frac, form)| damped_operator(w, c, frac * h, form));
+        // the two half-step operators, then the three full-step ones
+        let form = |k: usize| OPERATOR_FORMS[k].1;
+        let a = mode_matrix(w, c);
+        let [e_half, phi1_half] = block_operators(a, 0.5 * h, [form(E_HALF), form(PHI1_HALF)]);
+        let [f1, f2, f3] = block_operators(a, h, [form(F1), form(F2), form(F3)]);
+        return [e_half, phi1_half, f1, f2, f3];
     }
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
@@ -260,7 +288,7 @@ mod tests {
             let scaled = |m: ModeOperator| [m[0], m[1] * sc, m[2] / sc, m[3]];
             for (k, &(frac, form)) in OPERATOR_FORMS.iter().enumerate() {
                 let tau = frac * h;
-                let op = scaled(block_operator(a, tau, form));
+                let op = scaled(block_operators(a, tau, [form])[0]);
                 let mut m = SMatrix::<f64, 8, 8>::zeros();
                 for r in 0..2 {
                     for c in 0..2 {
