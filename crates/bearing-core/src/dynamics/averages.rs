@@ -4,6 +4,7 @@
 use super::output::{BallSummary, CageMotion, CageState, SolverStats, Summary};
 use super::rhs::Diagnostics;
 use crate::model::Model;
+use crate::physics::defect::rem_turn;
 use crate::physics::kinematics::rolling_kinematics;
 use std::f64::consts::TAU;
 
@@ -42,7 +43,10 @@ impl Averages {
         }
         for j in 0..m.z {
             let th = y[m.layout.ball(j) + 2];
-            let k = ((th.rem_euclid(TAU) * m.z as f64 / TAU).round() as usize) % m.z;
+            // `th.rem_euclid(TAU)`, to the bit
+            let r = rem_turn(th);
+            let th = if r < 0.0 { r + TAU } else { r };
+            let k = ((th * m.z as f64 / TAU).round() as usize) % m.z;
             let c = (
                 d.inner_load[j],
                 d.outer_load[j],
