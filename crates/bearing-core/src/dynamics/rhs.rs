@@ -10,7 +10,7 @@ use crate::physics::cage_land::{land_on_cage, AxisMotion, LandOnCage};
 use crate::physics::cage_pocket::{pocket_centre_and_axis, CageMotion, PocketResult};
 use crate::physics::cage_pocket_lanes::pocket_contacts;
 use crate::physics::drag::cage_windage_torque;
-use crate::physics::frames::{tilt_matrix, Azimuth};
+use crate::physics::frames::{azimuths, tilt_matrix, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, Race, RingMotion};
 use crate::physics::race_contact_lanes::{race_contacts, PASS};
 use nalgebra::{Matrix3, Vector3};
@@ -217,9 +217,13 @@ fn ball_pass(
         balls: [BallMotion::default(); PASS],
         imbalances: [[0.0; 2]; PASS],
     };
+    let mut angles = [0.0; PASS];
+    for (k, a) in angles[..pass.n].iter_mut().enumerate() {
+        *a = y[m.layout.ball(first + k) + ball::THETA];
+    }
+    azimuths(&angles[..pass.n], &mut pass.azimuths[..pass.n]);
     for k in 0..pass.n {
         let j = first + k;
-        pass.azimuths[k] = Azimuth::new(y[m.layout.ball(j) + ball::THETA]);
         (pass.balls[k], pass.imbalances[k]) = ball_at(
             m,
             y,
