@@ -17,8 +17,10 @@ static CHOICE: AtomicU8 = AtomicU8::new(0);
 /// Declares `fn name(args) -> ret` running `body(args)` (an `#[inline(always)]` function),
 /// compiled twice: as it is, and as `wide` with AVX2 and FMA enabled (x86-64 only; unsafe
 /// to call where the processor lacks them), the copy chosen at run time by
-/// [`wide_vectors`]. The two copies give the same numbers: neither fuses nor reorders an
-/// operation (Rust contracts nothing into FMA by itself); tests compare them.
+/// [`wide_vectors`]. The two copies give the same numbers: neither reorders an operation,
+/// and they fuse only where the code asks (`mul_add`, rounded once in both: an FMA
+/// instruction in the wide copy, libm's `fma` in the baseline one; Rust contracts nothing
+/// into FMA by itself); tests compare them.
 macro_rules! twice_compiled {
     ($(#[$meta:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
         = $body:path, wide $wide:ident;) => {

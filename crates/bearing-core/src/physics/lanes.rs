@@ -55,6 +55,21 @@ impl F64x4 {
         self.map(f64::sqrt)
     }
 
+    /// `self * a + b` of each lane, rounded once: one FMA instruction in the AVX2 copy (a
+    /// libm call a lane in the baseline one). The polynomials' Horner steps use it: a
+    /// step is one instruction of 4 cycles' latency instead of a multiply and an add of 3
+    /// each, and a contact's logarithms wait on their nine steps (on the Table-1 case 0.94
+    /// of the time an evaluation, docs/lab/benchmarks.md).
+    #[inline(always)]
+    pub fn mul_add(self, a: F64x4, b: F64x4) -> F64x4 {
+        F64x4([
+            self.0[0].mul_add(a.0[0], b.0[0]),
+            self.0[1].mul_add(a.0[1], b.0[1]),
+            self.0[2].mul_add(a.0[2], b.0[2]),
+            self.0[3].mul_add(a.0[3], b.0[3]),
+        ])
+    }
+
     /// The size of each lane.
     #[inline(always)]
     pub fn abs(self) -> F64x4 {
@@ -171,11 +186,11 @@ impl F64x4 {
         let r2 = r * r;
         let mut ps = F64x4::splat(SIN_SERIES[SIN_SERIES.len() - 1]);
         for c in SIN_SERIES[..SIN_SERIES.len() - 1].iter().rev() {
-            ps = ps * r2 + F64x4::splat(*c);
+            ps = ps.mul_add(r2, F64x4::splat(*c));
         }
         let mut pc = F64x4::splat(COS_SERIES[COS_SERIES.len() - 1]);
         for c in COS_SERIES[..COS_SERIES.len() - 1].iter().rev() {
-            pc = pc * r2 + F64x4::splat(*c);
+            pc = pc.mul_add(r2, F64x4::splat(*c));
         }
         let sin_r = r + r * r2 * ps;
         let cos_r = F64x4::splat(1.0) - (0.5 * r2 - r2 * r2 * pc);
@@ -309,7 +324,7 @@ fn ln_reduced(e: F64x4, m: F64x4, m_minus_1: F64x4) -> F64x4 {
     // 1/3 + s2/5 + ... + s2^9/21, by Horner from the smallest term
     let mut p = F64x4::splat(ATANH_SERIES[9]);
     for c in ATANH_SERIES[..9].iter().rev() {
-        p = p * s2 + F64x4::splat(*c);
+        p = p.mul_add(s2, F64x4::splat(*c));
     }
     // 2s + 2s s2 p: the small part first, then the exact multiple of ln 2's high part
     let two_s = s + s;
