@@ -54,7 +54,8 @@ impl StressScene {
 /// preset's physics. Scenes that only move the operating point keep the step limit of the
 /// ball-race contact modes: measured 0.43-2.73x at 20 ms and 0.1 s (2026-11-29; 0.5-2.2x
 /// under the paper's model; 0.58-3.37x at 0.1 s on 2026-11-30 under `auto_etd`, against a
-/// reference 0.81 times as costly as `auto_slip`'s), so 4x leaves room for the start-up
+/// reference 0.81 times as costly as `auto_slip`'s; 0.57-3.54x on the twenty-fourth
+/// session's build), so 4x leaves room for the start-up
 /// transient of short runs and for defect edges.
 const SAME_COST: f64 = 4.0;
 
@@ -65,7 +66,8 @@ const SAME_COST: f64 = 4.0;
 /// `limit_speed_auto` is the remedy, and under the preset's physics the step does not
 /// collapse there (`limit_speed`: `auto_slip` 0.89x; `auto_etd` 1.08x, 2026-11-30). The test suite's 20 ms run stays far below the
 /// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
-/// (215.41x on 2026-11-30 against `auto_etd`'s cheaper reference).
+/// (215.41x on 2026-11-30 against `auto_etd`'s cheaper reference; 179.46x on the
+/// twenty-fourth session's build, whose azimuths moved at rounding level).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its

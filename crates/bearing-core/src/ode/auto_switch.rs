@@ -59,8 +59,11 @@ const MAX_PATIENCE: u32 = 1024;
 /// beyond the threshold the challenger would win by (1.5: a window's price scatters by
 /// about 10 %, so two running past it are not scatter). On the Table-1 compound case the
 /// ramp leaves the implicit method in with a patience of 32 windows while its price rises
-/// past the explicit one's; without this it kept the run from 0.05 to 0.073 s in about a
-/// third of the runs, 2 300 steps (3.4 %) more (docs/lab/benchmarks.md).
+/// past the explicit one's; without this it kept the run from 0.05 to 0.073 s in 2 to 5
+/// runs of a ten-run tolerance ensemble (2 300 steps, 3.4 %, more); with it in 1 of 15,
+/// where the explicit method's trial window happened to price it at 1.10e6 against its
+/// usual 0.67-0.86e6, a mark the implicit price did not pass 1.5 times over
+/// (docs/lab/benchmarks.md).
 const OVERPRICED_BY: f64 = 1.5;
 /// Measured-cost rule: consecutive overpriced windows that start an early challenge.
 const OVERPRICED_WINDOWS: u32 = 2;
