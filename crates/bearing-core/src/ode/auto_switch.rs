@@ -62,8 +62,9 @@ const MAX_PATIENCE: u32 = 1024;
 /// past the explicit one's; without this it kept the run from 0.05 to 0.073 s in 2 to 5
 /// runs of a ten-run tolerance ensemble (2 300 steps, 3.4 %, more); with it in 1 of 15,
 /// where the explicit method's trial window happened to price it at 1.10e6 against its
-/// usual 0.67-0.86e6, a mark the implicit price did not pass 1.5 times over
-/// (docs/lab/benchmarks.md).
+/// usual 0.67-0.86e6, a mark the implicit price did not pass by the 1.35 (1.5 x 0.9) it
+/// takes (docs/lab/benchmarks.md). At a window price scatter of 30 % the early challenge
+/// adds few switches (test below).
 const OVERPRICED_BY: f64 = 1.5;
 /// Measured-cost rule: consecutive overpriced windows that start an early challenge.
 const OVERPRICED_WINDOWS: u32 = 2;
@@ -465,7 +466,13 @@ mod tests {
     /// failed trial in each doubling of the patience makes about 2 log2(2000) = 22, and
     /// within the band a noisy ratio sometimes crosses a threshold and restarts the
     /// doubling). The bound, 150, is that measurement with room for another generator's
-    /// draws; one threshold of 0.8 for either challenger made 616 at 0.8.
+    /// draws; one threshold of 0.8 for either challenger made 616 at 0.8. At 30 % scatter
+    /// (the Table-1 ramp's windows scatter so: the implicit method's priced 0.58-2.2e6
+    /// over 0.04-0.07 s) the ratio often crosses a threshold: measured 21-318 switches in
+    /// 2000 windows without the early challenge and 21-341 with it (2026-11-30; its two
+    /// overpriced windows are then sometimes scatter). A failed trial costs one window at
+    /// the other method's price, within the band at most 1.7 times the incumbent's; bound
+    /// 500, that measurement with room for another generator's draws.
     #[test]
     fn measured_cost_does_not_alternate_near_its_thresholds() {
         let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
@@ -475,49 +482,75 @@ mod tests {
             state ^= state << 17;
             ((state >> 11) as f64 / (1u64 << 53) as f64).max(1e-300)
         };
-        let mut worst = 0;
-        for ratio in [0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95] {
-            let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
-            let mut a = measured(norm);
-            drive(&mut a, 2000, |implicit| {
-                let g = (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
-                1e5 * if implicit { ratio } else { 1.0 } * (0.1 * g).exp()
-            });
-            eprintln!("ratio {ratio}: {} switches", a.switches);
-            worst = worst.max(a.switches);
+        for (scatter, bound) in [(0.1, 150), (0.3, 500)] {
+            let mut worst = 0;
+            for ratio in [0.55, 0.6, 0.65, 0.7, 0.75, 0.8, 0.85, 0.9, 0.95] {
+                let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
+                let mut a = measured(norm);
+                drive(&mut a, 2000, |implicit| {
+                    let g =
+                        (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
+                    1e5 * if implicit { ratio } else { 1.0 } * (scatter * g).exp()
+                });
+                eprintln!("scatter {scatter}, ratio {ratio}: {} switches", a.switches);
+                worst = worst.max(a.switches);
+            }
+            assert!(
+                worst <= bound,
+                "scatter {scatter}: {worst} switches in 2000 windows"
+            );
         }
-        assert!(worst <= 150, "{worst} switches in 2000 windows");
     }
 
-    /// A regime that changes while the incumbent's patience is long: the implicit method
-    /// takes the run at half the explicit price and keeps it through lost challenges (its
-    /// patience grows to 64 windows), then its own price climbs to twice the explicit one's
-    /// (a ramp reaching speed). The explicit method takes over within three windows of the
-    /// change (the two overpriced windows and the trial), not at the patience's end; at
-    /// 1.2 times (within the margin) the incumbent waits for its patience.
+    /// A regime that changes while the incumbent's patience is long.
+    /// - The implicit method takes the run at half the explicit price and keeps it through
+    ///   lost challenges (after 200 windows its patience is 128); then its own price climbs
+    ///   to twice the explicit one's (a ramp reaching speed). The explicit method takes over
+    ///   within three windows (the two overpriced ones and the trial) and keeps the run,
+    ///   the implicit one coming back only for its lost trials; at 1.2 times (within the
+    ///   margin) the implicit method waits out its patience.
+    /// - The explicit method keeps the run at 0.92 (its patience grown the same way); then
+    ///   its own price quadruples (a stiffness appears): the implicit method takes over
+    ///   within three windows.
     #[test]
     fn measured_cost_challenges_early_when_the_incumbent_grows_dear() {
         let norm = || ErrorNorm::new(1e-6, 1e-6, vec![1.0; 3], vec![false; 3]);
-        for (dear, within) in [(2.0, 3), (1.2, 64)] {
+        // windows until the method in use changes (at most 300)
+        let until_switch = |a: &mut AutoSwitch, price: &dyn Fn(bool) -> f64| {
+            let (start, mut n) = (a.implicit(), 0);
+            while a.implicit() == start && n < 300 {
+                drive(a, 1, price);
+                n += 1;
+            }
+            n
+        };
+        for dear in [2.0, 1.2] {
             let mut a = measured(norm());
             drive(&mut a, 200, |implicit| if implicit { 5e4 } else { 1e5 });
             assert!(a.implicit() && a.prices.patience >= 64, "{:?}", a.prices);
-            // windows until the explicit method runs
-            let mut waited = 0;
-            while a.implicit() && waited < 200 {
-                waited += drive(
-                    &mut a,
-                    1,
-                    |implicit| if implicit { dear * 1e5 } else { 1e5 },
-                );
-            }
+            let price = |implicit: bool| if implicit { dear * 1e5 } else { 1e5 };
+            let waited = until_switch(&mut a, &price);
             assert!(!a.implicit(), "the implicit method kept the run at {dear}");
             if dear > OVERPRICED_BY * EXPLICIT_TAKES_BACK {
-                assert!(waited <= within, "{waited} windows at {dear}");
+                assert!(waited <= 3, "{waited} windows at {dear}");
+                let implicit_windows = drive(&mut a, 40, price);
+                assert!(
+                    !a.implicit() && implicit_windows <= 6,
+                    "{implicit_windows} of 40 windows implicit after the change"
+                );
             } else {
                 assert!(waited > 3, "challenged early at {dear} ({waited} windows)");
             }
         }
+        let mut b = measured(norm());
+        drive(&mut b, 200, |implicit| if implicit { 9.2e4 } else { 1e5 });
+        assert!(!b.implicit() && b.prices.patience >= 64, "{:?}", b.prices);
+        let stiff = |implicit: bool| if implicit { 9.2e4 } else { 4e5 };
+        let waited = until_switch(&mut b, &stiff);
+        assert!(
+            b.implicit() && waited <= 3,
+            "{waited} windows to go implicit"
+        );
     }
 
     /// Where the relaxation is fast (k = 1e6 1/s against a 20 Hz oscillator) the explicit
