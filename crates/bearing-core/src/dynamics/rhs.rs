@@ -856,6 +856,30 @@ mod tests {
                 for (race, ring) in [(&m.inner_race, &inner), (&m.outer_race, &outer)] {
                     let mut side_by_side = vec![ContactResult::default(); m.z];
                     race_contacts(race, ring, &balls, &m.contact, &mut side_by_side);
+                    if !exact {
+                        // the copy this processor runs (AVX2 and FMA here) is the baseline
+                        // copy to the bit: both fuse only where the code asks (`mul_add`)
+                        let mut baseline = vec![ContactResult::default(); m.z];
+                        crate::physics::race_contact_lanes::race_contacts_baseline(
+                            race,
+                            ring,
+                            &balls,
+                            &m.contact,
+                            &mut baseline,
+                        );
+                        let bits = |c: &ContactResult| {
+                            [
+                                c.force_on_ball,
+                                c.moment_on_ball,
+                                c.force_on_ring,
+                                c.moment_on_ring,
+                            ]
+                            .map(|v| v.map(f64::to_bits))
+                        };
+                        for (a, c) in side_by_side.iter().zip(&baseline) {
+                            assert_eq!(bits(a), bits(c), "at t {t}");
+                        }
+                    }
                     let alone: Vec<ContactResult> = balls
                         .iter()
                         .map(|b| race_contact(race, ring, b, &m.contact))

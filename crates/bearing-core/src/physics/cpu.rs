@@ -3,11 +3,12 @@
 //! The release build targets the baseline x86-64 (SSE2), so that the binary runs on any
 //! x86-64 processor, and under Debian's valgrind 3.19, which stopped on an instruction of a
 //! whole build for x86-64-v3. The hot functions (`race_contact::race_contact`, a pass of
-//! `race_contact_lanes::race_contacts`, a group of `cage_pocket_lanes::pocket_contacts`)
-//! are declared with [`twice_compiled!`]: compiled a second time with AVX2 and FMA enabled,
-//! and that copy chosen here (valgrind runs it); `BEARING_SIM_CPU=baseline` keeps the
-//! baseline copy, for instruction counts comparable with builds before it. Measured:
-//! docs/lab/benchmarks.md, "AVX2".
+//! `race_contact_lanes::race_contacts`, a group of `cage_pocket_lanes::pocket_contacts`,
+//! `frames::azimuths`) are declared with [`twice_compiled!`]: compiled a second time with
+//! AVX2 and FMA enabled, and that copy chosen here (valgrind runs it);
+//! `BEARING_SIM_CPU=baseline` keeps the baseline copy (since 2026-11-30 its fused steps
+//! and `floor` are libm calls, one a lane, so its instruction counts are no longer those
+//! of earlier builds' baseline copy). Measured: docs/lab/benchmarks.md, "AVX2".
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
@@ -20,7 +21,8 @@ static CHOICE: AtomicU8 = AtomicU8::new(0);
 /// [`wide_vectors`]. The two copies give the same numbers: neither reorders an operation,
 /// and they fuse only where the code asks (`mul_add`, rounded once in both: an FMA
 /// instruction in the wide copy, libm's `fma` in the baseline one; Rust contracts nothing
-/// into FMA by itself); tests compare them.
+/// into FMA by itself); tests compare them to the bit (`race_contact`, `race_contacts`,
+/// `azimuths`).
 macro_rules! twice_compiled {
     ($(#[$meta:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
         = $body:path, wide $wide:ident;) => {

@@ -161,6 +161,28 @@ pub fn tilt_matrix(beta_y: f64, beta_z: f64) -> Matrix3<f64> {
 
 #[cfg(test)]
 mod tests {
+    /// The copy this processor runs is the baseline copy to the bit (both fuse only where
+    /// the code asks), over angles a long run reaches, both signs, and past the reduced
+    /// range.
+    #[test]
+    fn the_azimuths_copies_agree_to_the_bit() {
+        let angles: Vec<f64> = (0..4001)
+            .map(|k| (k as f64 - 2000.0) * 61.7 + 1e-3 * k as f64)
+            .chain([0.0, -0.0, 2e5, -3e6])
+            .collect();
+        let mut wide = vec![Azimuth::default(); angles.len()];
+        let mut base = wide.clone();
+        azimuths(&angles, &mut wide);
+        azimuths_body(&angles, &mut base);
+        for ((w, b), x) in wide.iter().zip(&base).zip(&angles) {
+            assert_eq!(
+                (w.sin.to_bits(), w.cos.to_bits()),
+                (b.sin.to_bits(), b.cos.to_bits()),
+                "{x}"
+            );
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -41,6 +41,24 @@ pub fn race_contacts(
     }
 }
 
+/// [`race_contacts`] in its baseline copy on any processor: for the test that compares the
+/// two copies to the bit (`dynamics::rhs`).
+#[cfg(test)]
+pub(crate) fn race_contacts_baseline(
+    race: &Race,
+    ring: &RingMotion,
+    balls: &[BallMotion],
+    p: &ContactParams,
+    out: &mut [ContactResult],
+) {
+    let TractionLaw::Rheology(law) = &race.traction else {
+        panic!("the baseline copy is the rheology law's");
+    };
+    for (pass, o) in balls.chunks(PASS).zip(out.chunks_mut(PASS)) {
+        contacts_body(race, law, ring, pass, p, o);
+    }
+}
+
 /// Balls per pass: four groups of four, whose strips that take their cell mean are
 /// gathered four at a time ([`CellQueue`]): about one strip in eleven takes it, so one
 /// group's four lanes seldom hold more than one.
