@@ -67,7 +67,8 @@ const SAME_COST: f64 = 4.0;
 /// collapse there (`limit_speed`: `auto_slip` 0.89x; `auto_etd` 1.08x, 2026-11-30). The test suite's 20 ms run stays far below the
 /// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
 /// (215.41x on 2026-11-30 against `auto_etd`'s cheaper reference; 179.46x on the
-/// twenty-fourth session's build, whose azimuths moved at rounding level).
+/// twenty-fourth session's build, whose azimuths and contact logarithms moved at rounding
+/// level).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its

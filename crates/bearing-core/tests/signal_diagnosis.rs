@@ -16,7 +16,10 @@
 //! the healthy Table-1 scene, whose bearing strikes once per ball pass at a fixed place (a
 //! ball that has left the load zone catching its pocket's leading face about 155 deg from
 //! the load line: a burst in the 12.8-25.6 kHz band at every BPFO period, also at rtol
-//! 1e-7) and reads outer race.
+//! 1e-7) and reads outer race. The same strike is in the healthy 0.1 s scene, where it
+//! passes the verdict's threshold in some runs and not others: asserted as a rate over 31
+//! runs. (Under the preset's physics the healthy 0.1 s scene read no fault in 31 of 31
+//! such runs, 2026-11-30, so it stays one run there.)
 
 use bearing_core::scene::{
     fault_case_scene, FaultCase, Integrator, RollingResistanceModel, Scene, Traction,
@@ -165,15 +168,17 @@ fn a_run_up_is_order_tracked_and_says_so() {
 /// fifteenth session's code, then the default): 0.1 s compound inner 4.4e-5 and outer
 /// 1.2e-4, the run-up outer 1.4e-4.
 ///
-/// The healthy 0.1 s scene is read as a small ensemble, not as one run: a healthy loaded
-/// bearing rings at BPFO as its balls pass the load zone, and over 0.1 s that line
-/// sometimes passes the verdict's threshold. Measured 2026-11-30 over 31 runs with the
+/// The healthy 0.1 s scene is read as a small ensemble, not as one run: its bearing strikes
+/// once per ball pass at a fixed place (the module's comment), and over 0.1 s that line at
+/// BPFO sometimes passes the verdict's threshold. Measured 2026-11-30 over 31 runs with the
 /// tolerance scaled by 1 + 0.0007 k (k = -15..15): 6 read outer race (p 9.5e-5 to 9.1e-4)
 /// with libm's sine, 3 with the lanes' (the azimuths moved at rounding level, and the one
 /// run this test took, k = 0, went from p = 0.66 to an outer-race read at p = 5.1e-4). So
-/// the 31 runs must read no fault in at least two of three (binomially, a rate of 15 %
-/// passes 10 of 31 once in about 200 draws), and nothing but the outer race where they
-/// read one.
+/// the 31 runs must read no fault in at least two of three, and nothing but the outer race
+/// where they read one. The bound is a guard against the verdict losing its specificity,
+/// not a measure of the rate: binomially, at the pooled 15 % (9 of 62) more than 10 of 31
+/// comes once in about 250 draws, at the libm runs' 19 % once in 43; a rate of 30 % passes
+/// 69 % of the time, one of 40 % a quarter.
 #[test]
 fn under_the_papers_model_every_scene_but_one_reads_its_faults() {
     for case in [FaultCase::Inner, FaultCase::Outer, FaultCase::Compound] {

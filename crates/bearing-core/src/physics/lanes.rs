@@ -58,8 +58,8 @@ impl F64x4 {
     /// `self * a + b` of each lane, rounded once: one FMA instruction in the AVX2 copy (a
     /// libm call a lane in the baseline one). The polynomials' Horner steps use it: a
     /// step is one instruction of 4 cycles' latency instead of a multiply and an add of 3
-    /// each, and a contact's logarithms wait on their nine steps (on the Table-1 case 0.94
-    /// of the time an evaluation, docs/lab/benchmarks.md).
+    /// each, and a contact's logarithms wait on their nine steps (fused, the Table-1 case
+    /// took about 0.96 of the time an evaluation, docs/lab/benchmarks.md).
     #[inline(always)]
     pub fn mul_add(self, a: F64x4, b: F64x4) -> F64x4 {
         F64x4([
