@@ -207,10 +207,8 @@ impl F64x4 {
         // sin(x) = x below the smallest normal number, -0 kept (the series gives +0 there)
         sin = F64x4::select(self.abs().lt(F64x4::splat(f64::MIN_POSITIVE)), self, sin);
         if near != [true; LANES] {
-            for l in 0..LANES {
-                if !near[l] {
-                    (sin.0[l], cos.0[l]) = self.0[l].sin_cos();
-                }
+            for (l, _) in near.iter().enumerate().filter(|(_, near)| !**near) {
+                (sin.0[l], cos.0[l]) = self.0[l].sin_cos();
             }
         }
         (sin, cos)
