@@ -169,11 +169,12 @@ impl F64x4 {
     /// `(sin x, cos x)` of each lane, within 2 ulp of `f64::sin_cos` for `|x|` below
     /// [`SIN_COS_REDUCED_BELOW`] (tested; beyond it a lane takes `f64::sin_cos`). Table-free,
     /// so the four lanes share every instruction: `x = n pi/2 + r` with `|r| <= pi/4` (`pi/2`
-    /// in three parts, the first two of 33 bits, so `n` times them is exact for `|n| < 2^20`
-    /// and `x - n P1` exact by Sterbenz's lemma), then the Taylor series of `sin r` to
-    /// `r^19/19!` and of `cos r` to `r^20/20!` (the next terms are below 1e-21 at `pi/4`),
-    /// and the quadrant's signs and swap. libm's `sincos` takes ~140 instructions a call at
-    /// the angles a ball's orbit reaches (hundreds of radians), 3.5 % of the Table-1 case.
+    /// in three parts, the first two of at most 33 bits, so `n` times them is exact for
+    /// `|n| < 2^20`, and `x - n P1` exact by Sterbenz's lemma), then the Taylor series of
+    /// `sin r` to `r^19/19!` and of `cos r` to `r^20/20!` (the next terms are below 1e-21 at
+    /// `pi/4`), and the quadrant's signs and swap. libm's `sincos` takes ~140 instructions a
+    /// call at the angles a ball's orbit reaches (hundreds of radians), 3.5 % of the
+    /// Table-1 case.
     #[inline(always)]
     pub fn sin_cos(self) -> (F64x4, F64x4) {
         let near = self.abs().lt(F64x4::splat(SIN_COS_REDUCED_BELOW));
@@ -265,8 +266,8 @@ impl F64x4 {
 /// far below `2^20`, where the parts' products stop being exact.
 pub const SIN_COS_REDUCED_BELOW: f64 = 1e5;
 
-/// `pi/2` in three parts: the first two of 33 significant bits, the third the rest to
-/// double precision (their sum is `pi/2` to about 1e-37).
+/// `pi/2` in three parts: the first two of at most 33 significant bits (31 and 32), the
+/// third the rest to double precision (their sum is `pi/2` to about 1e-37).
 const HALF_PI_1: f64 = 1.570_796_326_734_125_6;
 const HALF_PI_2: f64 = 6.077_100_506_303_966e-11;
 const HALF_PI_3: f64 = 2.022_266_248_795_950_6e-21;
