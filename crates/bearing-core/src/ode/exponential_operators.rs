@@ -61,7 +61,8 @@ fn phis(x: f64, y: f64) -> [(f64, f64); 4] {
     out
 }
 
-/// Each operator's `tau` over `h`, and its combination of `phi_0..phi_3` at `tau L`.
+/// Each operator's `tau` over `h`, and its combination of `phi_0..phi_3` at `tau L`: the
+/// one table every block's operators are built from.
 const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
     (0.5, [1.0, 0.0, 0.0, 0.0]),
     (0.5, [0.0, 1.0, 0.0, 0.0]),
@@ -69,6 +70,18 @@ const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
     (1.0, [0.0, 0.0, 1.0, -2.0]),
     (1.0, [0.0, 0.0, -1.0, 4.0]),
 ];
+
+/// `sum_k form_k phi_k` from the `phi` values `p` (complex, as `(re, im)`).
+fn form_sum(p: &[(f64, f64); 4], form: &[f64; 4]) -> (f64, f64) {
+    let re = (0..4).map(|k| form[k] * p[k].0).sum::<f64>();
+    let im = (0..4).map(|k| form[k] * p[k].1).sum::<f64>();
+    (re, im)
+}
+
+/// Each operator's form at its `tau`, from the `phi` values at the half and the full step.
+fn step_forms(half: &[(f64, f64); 4], full: &[(f64, f64); 4]) -> [(f64, f64); OPS] {
+    OPERATOR_FORMS.map(|(frac, form)| form_sum(if frac == 0.5 { half } else { full }, &form))
+}
 
 /// `g(tau L)` for `g = sum_k form_k phi_k` on a mode of `w` rad/s damped at `c` 1/s (> 0).
 ///
@@ -100,11 +113,7 @@ fn block_operators<const K: usize>(
     tau: f64,
     forms: [[f64; 4]; K],
 ) -> [ModeOperator; K] {
-    let sum = |p: &[(f64, f64); 4], form: &[f64; 4]| {
-        let re = (0..4).map(|k| form[k] * p[k].0).sum::<f64>();
-        let im = (0..4).map(|k| form[k] * p[k].1).sum::<f64>();
-        (re, im)
-    };
+    let sum = form_sum;
     if tau == 0.0 {
         // g(0) = sum form_k / k! (the complex step below would divide by zero)
         return forms.map(|form| {
@@ -168,27 +177,13 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     }
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
-    let half = phis(0.0, 0.5 * w * h);
-    let full = phis(0.0, w * h);
-    let lin = |c: [f64; 3]| {
-        (
-            c[0] * full[1].0 + c[1] * full[2].0 + c[2] * full[3].0,
-            c[0] * full[1].1 + c[1] * full[2].1 + c[2] * full[3].1,
-        )
-    };
-    let mut ops = [
-        op(half[0]),
-        op(half[1]),
-        op(lin([1.0, -3.0, 4.0])),
-        op(lin([0.0, 1.0, -2.0])),
-        op(lin([0.0, -1.0, 4.0])),
-    ];
+    let mut ops = step_forms(&phis(0.0, 0.5 * w * h), &phis(0.0, w * h)).map(op);
     if w == 0.0 {
         // a free mode, L = [[0, 1], [0, 0]] nilpotent: g(tau L) = g(0) I + g'(0) tau L
         let slope = [1.0, 0.5, 1.0 / 6.0, 1.0 / 12.0, 0.0];
-        let taus = [0.5 * h, 0.5 * h, h, h, h];
         for k in 0..OPS {
-            ops[k] = [WITHOUT_L[k], taus[k] * slope[k], 0.0, WITHOUT_L[k]];
+            let tau = OPERATOR_FORMS[k].0 * h;
+            ops[k] = [WITHOUT_L[k], tau * slope[k], 0.0, WITHOUT_L[k]];
         }
     }
     ops
@@ -196,15 +191,7 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
 
 /// The five operators of a step of `h` on a component relaxing at `rate` (1/s, < 0).
 pub(super) fn relax_operators(rate: f64, h: f64) -> [f64; OPS] {
-    let half = phis(0.5 * rate * h, 0.0);
-    let full = phis(rate * h, 0.0);
-    [
-        half[0].0,
-        half[1].0,
-        full[1].0 - 3.0 * full[2].0 + 4.0 * full[3].0,
-        full[2].0 - 2.0 * full[3].0,
-        4.0 * full[3].0 - full[2].0,
-    ]
+    step_forms(&phis(0.5 * rate * h, 0.0), &phis(rate * h, 0.0)).map(|(re, _)| re)
 }
 
 #[cfg(test)]
