@@ -87,9 +87,10 @@ fn contacts_body(
     p: &ContactParams,
     out: &mut [ContactResult],
 ) {
-    // each built in place: `[GroupState::default(); N]` built one and copied it into
-    // every slot, four 1.2 kB copies a pass (1.4 % of the Table-1 case's instructions)
-    let mut states: [GroupState; PASS / LANES] = std::array::from_fn(|_| GroupState::default());
+    // a group's state only once it has a loaded contact: zeroing four 1.2 kB states a
+    // pass (a `memset`, 1.1 % of the Table-1 case's instructions) bought nothing, as a
+    // group without one writes no result
+    let mut states: [Option<GroupState>; PASS / LANES] = [None; PASS / LANES];
     let mut queue = CellQueue::default();
     let groups = balls.chunks(LANES).zip(out.chunks_mut(LANES));
     for (g, (group, o)) in groups.enumerate() {
@@ -97,7 +98,9 @@ fn contacts_body(
     }
     queue.flush(law.limiting, &mut states);
     for (state, o) in states.iter().zip(out.chunks_mut(LANES)) {
-        state.write(o);
+        if let Some(state) = state {
+            state.write(o);
+        }
     }
 }
 
@@ -148,7 +151,7 @@ struct CellJob {
 
 impl CellQueue {
     #[inline(always)]
-    fn push(&mut self, job: CellJob, limiting: f64, states: &mut [GroupState]) {
+    fn push(&mut self, job: CellJob, limiting: f64, states: &mut [Option<GroupState>]) {
         self.jobs[self.len] = job;
         self.len += 1;
         if self.len == LANES {
@@ -159,7 +162,7 @@ impl CellQueue {
     /// The waiting strips' cell means side by side; each replaces its strip's point value
     /// in its group's sums.
     #[inline(always)]
-    fn flush(&mut self, limiting: f64, states: &mut [GroupState]) {
+    fn flush(&mut self, limiting: f64, states: &mut [Option<GroupState>]) {
         if self.len == 0 {
             return;
         }
@@ -181,7 +184,10 @@ impl CellQueue {
                 mean.lane(i)
             };
             let correction = j.qw * m - j.point;
-            let st = &mut states[j.group];
+            // a queued strip's group has its state
+            let Some(st) = &mut states[j.group] else {
+                continue;
+            };
             st.f_tr.add_to_lane(j.lane, &correction);
             st.f_h.add_to_lane(j.lane, &(j.h * correction));
             st.f_y.add_to_lane(j.lane, &(j.y * correction));
@@ -202,7 +208,7 @@ fn group_forces(
     balls: &[BallMotion],
     p: &ContactParams,
     out: &mut [ContactResult],
-    states: &mut [GroupState],
+    states: &mut [Option<GroupState>],
     g: usize,
     queue: &mut CellQueue,
 ) {
@@ -346,7 +352,7 @@ fn group_forces(
     let a_eff = (race.hertz.a_coef * q13).min(F64x4::splat(0.999 * rb));
     let a2 = a_eff * a_eff;
     let base = (F64x4::splat(rb * rb) - a2).sqrt() - (F64x4::splat(rp * rp) - a2).sqrt();
-    states[g] = GroupState {
+    states[g] = Some(GroupState {
         loaded,
         u,
         s_hat,
@@ -359,7 +365,7 @@ fn group_forces(
         f_tr: Vec3x4::ZERO,
         f_h: Vec3x4::ZERO,
         f_y: Vec3x4::ZERO,
-    };
+    });
     for pair in &p.strips.pairs {
         let strip = film.strip_law(pair.chord);
         let y = pair.xi * a_eff;
@@ -417,15 +423,19 @@ fn group_forces(
             tr[side] = traction;
         }
         let both = tr[0] + tr[1];
-        let st = &mut states[g];
+        let Some(st) = &mut states[g] else {
+            continue;
+        };
         st.f_tr = st.f_tr + both;
         st.f_h = st.f_h + both.scale(h);
         st.f_y = st.f_y + (tr[1] - tr[0]).scale(y);
     }
-    states[g].rolling_per_speed = race
-        .rolling
-        .as_ref()
-        .map(|rr| rr.force_lanes(q, q13, ln_floored) / floored);
+    if let Some(st) = &mut states[g] {
+        st.rolling_per_speed = race
+            .rolling
+            .as_ref()
+            .map(|rr| rr.force_lanes(q, q13, ln_floored) / floored);
+    }
 }
 
 impl GroupState {
