@@ -3,6 +3,7 @@
 
 use crate::model::layout::ball;
 use crate::model::Model;
+use crate::physics::cpu::twice_compiled;
 use crate::physics::defect::wrap_angle;
 use std::f64::consts::TAU;
 
@@ -11,13 +12,23 @@ use std::f64::consts::TAU;
 /// to the next point instead of asking for a sliver step.
 const ON_POINT: f64 = 1e-3;
 
-/// Largest step after which no ball has passed the entry edge, the centre or the exit
-/// edge of any defect, at its present orbital rate relative to the defect's ring.
-///
-/// Where the ball meets those points the defect's drop (eq. 34) has a kink and its load
-/// direction (eq. 36) a jump at the centre; a step that ends on them keeps each step's
-/// right-hand side smooth, so the error control sets the steps inside a crossing.
-pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64 {
+twice_compiled! {
+    /// Largest step after which no ball has passed the entry edge, the centre or the exit
+    /// edge of any defect, at its present orbital rate relative to the defect's ring.
+    ///
+    /// Where the ball meets those points the defect's drop (eq. 34) has a kink and its load
+    /// direction (eq. 36) a jump at the centre; a step that ends on them keeps each step's
+    /// right-hand side smooth, so the error control sets the steps inside a crossing.
+    ///
+    /// Compiled twice (`physics::cpu`): the baseline copy's `trunc` and `mul_add` in
+    /// [`rem_turn`](crate::physics::defect::rem_turn) are library calls, the AVX2 copy's
+    /// one instruction each (the same numbers).
+    pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64 = step_bound_body, wide step_bound_avx2;
+}
+
+/// [`defect_step_bound`]'s body, in both copies.
+#[inline(always)]
+fn step_bound_body(m: &Model, t: f64, y: &[f64]) -> f64 {
     let mut bound = f64::INFINITY;
     let shaft = m.shaft_angle(t);
     let ws = m.shaft_speed(t);
