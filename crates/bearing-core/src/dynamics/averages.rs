@@ -5,6 +5,7 @@ use super::output::{BallSummary, CageMotion, CageState, SolverStats, Summary};
 use super::rhs::Diagnostics;
 use crate::model::Model;
 use crate::physics::defect::rem_turn;
+use crate::physics::frames::angles;
 use crate::physics::kinematics::rolling_kinematics;
 use std::f64::consts::TAU;
 
@@ -19,6 +20,8 @@ pub struct Averages {
     /// Per azimuth bin (centred on the ball positions at t = 0).
     zone: ContactSums,
     orbit: CageOrbit,
+    /// A step's contact angles, inner then outer, rad (kept to allocate once).
+    angles: Vec<f64>,
 }
 
 impl Averages {
@@ -31,6 +34,7 @@ impl Averages {
             balls: ContactSums::new(z),
             zone: ContactSums::new(z),
             orbit: CageOrbit::default(),
+            angles: vec![0.0; 2 * z],
         }
     }
     pub fn add(&mut self, m: &Model, t: f64, w: f64, y: &[f64], d: &Diagnostics) {
@@ -41,18 +45,16 @@ impl Averages {
         for k in 0..3 {
             self.reaction[k] += w * d.inner_reaction[k];
         }
+        let (inner, outer) = self.angles.split_at_mut(m.z);
+        angles(&d.inner_alpha, inner);
+        angles(&d.outer_alpha, outer);
         for j in 0..m.z {
             let th = y[m.layout.ball(j) + 2];
             // `th.rem_euclid(TAU)`, to the bit
             let r = rem_turn(th);
             let th = if r < 0.0 { r + TAU } else { r };
             let k = ((th * m.z as f64 / TAU).round() as usize) % m.z;
-            let c = (
-                d.inner_load[j],
-                d.outer_load[j],
-                d.inner_alpha[j].angle(),
-                d.outer_alpha[j].angle(),
-            );
+            let c = (d.inner_load[j], d.outer_load[j], inner[j], outer[j]);
             self.zone.add(k, w, c);
             self.balls.add(j, w, c);
         }

@@ -23,7 +23,8 @@ twice_compiled! {
     /// Compiled twice (`physics::cpu`): the baseline copy's `trunc` and `mul_add` in
     /// [`rem_turn`](crate::physics::defect::rem_turn) are library calls, the AVX2 copy's
     /// one instruction each (the same numbers).
-    pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64 = step_bound_body, wide step_bound_avx2;
+    pub fn defect_step_bound(m: &Model, t: f64, y: &[f64]) -> f64
+        = step_bound_body, wide step_bound_avx2;
 }
 
 /// [`defect_step_bound`]'s body, in both copies.
