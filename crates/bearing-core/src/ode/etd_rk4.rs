@@ -349,7 +349,9 @@ impl EtdRk4 {
 
     /// `out = sum_i coef_i op_i(v_i)` over every component: the operators' values with `L`
     /// zero outside the blocks, their matrices on them.
-    fn combine(&self, out: &mut [f64], terms: &[(usize, f64, &[f64])]) {
+    ///
+    /// The count of terms is a constant of each call, so the loops over them unroll.
+    fn combine<const K: usize>(&self, out: &mut [f64], terms: &[(usize, f64, &[f64]); K]) {
         // a pass per term keeps each loop a plain one over the components
         let Some((&(op0, c0, v0), rest)) = terms.split_first() else {
             out.fill(0.0);
