@@ -4,13 +4,13 @@
 //! asked, fills preallocated diagnostics.
 
 use super::ball_equilibrium::{ball_equilibrium, BalanceTrack};
-use crate::model::layout::{ball, cage, inner, outer, Layout};
+use crate::model::layout::{ball, cage, inner, outer};
 use crate::model::Model;
 use crate::physics::cage_land::{land_on_cage, AxisMotion, LandOnCage};
 use crate::physics::cage_pocket::{pocket_centre_and_axis, CageMotion, PocketResult};
 use crate::physics::cage_pocket_lanes::pocket_contacts;
 use crate::physics::drag::cage_windage_torque;
-use crate::physics::frames::{azimuths, tilt_matrix, Azimuth};
+use crate::physics::frames::{azimuths, tilt_matrix, tilt_matrix_of, Azimuth};
 use crate::physics::race_contact::{race_contact, BallMotion, ContactResult, Race, RingMotion};
 use crate::physics::race_contact_lanes::{race_contacts, PASS};
 use nalgebra::{Matrix3, Vector3};
@@ -56,12 +56,40 @@ impl Diagnostics {
 }
 
 /// Rings as the contact functions see them.
-#[inline]
 pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
-    let l: &Layout = &m.layout;
-    let i = l.inner;
-    let o = l.outer;
-    let inner = RingMotion::new(
+    let b = bodies(m, t, y);
+    (b.inner, b.outer)
+}
+
+/// The rings and the cage as the contact functions see them, and the cage's spin as an
+/// azimuth: every caller takes them here, so the right-hand side and the output see the
+/// same numbers.
+pub struct Bodies {
+    pub inner: RingMotion,
+    pub outer: RingMotion,
+    pub cage: CageMotion,
+    pub cage_az: Azimuth,
+}
+
+/// [`Bodies`] at `(t, y)`. The shaft's angle, the cage's spin angle and its two tilts take
+/// one call of the lanes' `sin_cos` ([`azimuths`]): four library calls an evaluation,
+/// two of them at the hundreds of radians the spins reach, were 1.6 % of the Table-1
+/// case's instructions.
+pub fn bodies(m: &Model, t: f64, y: &[f64]) -> Bodies {
+    let (i, o, c) = (m.layout.inner, m.layout.outer, m.layout.cage);
+    let shaft_angle = m.shaft_angle(t);
+    let mut az = [Azimuth::default(); 4];
+    azimuths(
+        &[
+            shaft_angle,
+            y[c + cage::SPIN],
+            y[c + cage::TILT_Y],
+            y[c + cage::TILT_Z],
+        ],
+        &mut az,
+    );
+    let [shaft_az, cage_az, tilt_y, tilt_z] = az;
+    let inner = RingMotion::turned(
         Vector3::new(y[i + inner::X], y[i + inner::Y], y[i + inner::Z]),
         if m.tilt_free {
             tilt_matrix(y[i + inner::TILT_Y], y[i + inner::TILT_Z])
@@ -74,16 +102,24 @@ pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
             y[i + inner::Z_DOT],
         ),
         m.shaft_speed(t),
-        m.shaft_angle(t),
+        shaft_angle,
+        shaft_az,
     );
-    let outer = RingMotion::new(
+    let outer = RingMotion::turned(
         Vector3::new(0.0, y[o + outer::Y], y[o + outer::Z]),
         Matrix3::identity(),
         Vector3::new(0.0, y[o + outer::Y_DOT], y[o + outer::Z_DOT]),
         0.0,
         0.0,
+        Azimuth::default(),
     );
-    (inner, outer)
+    let cage = cage_at(m, y, &inner, &outer, [&tilt_y, &tilt_z]);
+    Bodies {
+        inner,
+        outer,
+        cage,
+        cage_az,
+    }
 }
 
 /// Ball centre, velocity and angular velocity in inertial coordinates; `az` is the
@@ -109,14 +145,14 @@ pub fn ball_motion(y: &[f64], b: usize, az: &Azimuth) -> BallMotion {
     }
 }
 
-/// Cage motion from the state.
+/// Cage motion from the state, its tilts given as azimuths.
 #[inline]
-pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
+pub fn cage_motion(m: &Model, y: &[f64], tilt: [&Azimuth; 2]) -> CageMotion {
     let c = m.layout.cage;
     CageMotion {
         centre: Vector3::new(y[c + cage::X], y[c + cage::Y], y[c + cage::Z]),
         velocity: Vector3::new(y[c + cage::X_DOT], y[c + cage::Y_DOT], y[c + cage::Z_DOT]),
-        rot: tilt_matrix(y[c + cage::TILT_Y], y[c + cage::TILT_Z]),
+        rot: tilt_matrix_of(tilt[0], tilt[1]),
         spin_angle: y[c + cage::SPIN],
         omega: Vector3::new(y[c + cage::W_X], y[c + cage::W_Y], y[c + cage::W_Z]),
     }
@@ -125,7 +161,13 @@ pub fn cage_motion(m: &Model, y: &[f64]) -> CageMotion {
 /// The cage as the contact functions see it: from the state, or on the guiding ring's
 /// axis with a concentric cage (the outer ring for a ball-guided cage).
 #[inline]
-fn cage_at(m: &Model, y: &[f64], inner: &RingMotion, outer: &RingMotion) -> CageMotion {
+fn cage_at(
+    m: &Model,
+    y: &[f64],
+    inner: &RingMotion,
+    outer: &RingMotion,
+    tilt: [&Azimuth; 2],
+) -> CageMotion {
     if m.concentric_cage {
         let ring = if m.cage_guided_by_inner() {
             inner
@@ -141,7 +183,7 @@ fn cage_at(m: &Model, y: &[f64], inner: &RingMotion, outer: &RingMotion) -> Cage
             omega: Vector3::new(y[c + cage::W_X], 0.0, 0.0),
         }
     } else {
-        cage_motion(m, y)
+        cage_motion(m, y, tilt)
     }
 }
 
@@ -303,9 +345,8 @@ fn pocket_of(
 /// [`pocket_contact`](crate::physics::cage_pocket::pocket_contact) places it, on the cage as
 /// the contact functions see it; the ball's centre from the state.
 pub fn pocket_offset(m: &Model, t: f64, y: &[f64], j: usize) -> f64 {
-    let (inner, outer) = ring_motions(m, t, y);
-    let cage = cage_at(m, y, &inner, &outer);
-    let pocket = Azimuth::new(cage.spin_angle).plus(&m.pocket_azimuths[j]);
+    let Bodies { cage, cage_az, .. } = bodies(m, t, y);
+    let pocket = cage_az.plus(&m.pocket_azimuths[j]);
     let (centre, _) = pocket_centre_and_axis(&m.pocket, &cage, &pocket);
     let b = m.layout.ball(j);
     let ball = ball_motion(y, b, &Azimuth::new(y[b + ball::THETA]));
@@ -346,9 +387,12 @@ pub fn output_forces(
     track: Option<&BalanceTrack>,
     loads_of: Option<usize>,
 ) -> OutputForces {
-    let (inner, outer) = ring_motions(m, t, y);
-    let cage = cage_at(m, y, &inner, &outer);
-    let cage_az = Azimuth::new(cage.spin_angle);
+    let Bodies {
+        inner,
+        outer,
+        cage,
+        cage_az,
+    } = bodies(m, t, y);
     // a concentric cage guided by the outer ring passes its radial load there
     let pockets_reach_outer = m.concentric_cage && !m.cage_guided_by_inner();
     let mut f_outer = Vector3::zeros();
@@ -402,8 +446,9 @@ pub fn cage_land_acceleration(m: &Model, t: f64, y: &[f64]) -> [f64; 2] {
     if m.land.is_none() {
         return [0.0; 2];
     }
-    let (inner, outer) = ring_motions(m, t, y);
-    let cage = cage_at(m, y, &inner, &outer);
+    let Bodies {
+        inner, outer, cage, ..
+    } = bodies(m, t, y);
     cage_on_land(m, &cage, &inner, &outer).map_or([0.0; 2], |lr| {
         let f = lr.force_on_cage;
         [f.y / m.cage_mass, f.z / m.cage_mass]
@@ -465,9 +510,12 @@ pub fn rhs_tracked(
     track: Option<&BalanceTrack>,
 ) {
     let l = &m.layout;
-    let (inner, outer) = ring_motions(m, t, y);
-    let cage = cage_at(m, y, &inner, &outer);
-    let cage_az = Azimuth::new(cage.spin_angle);
+    let Bodies {
+        inner,
+        outer,
+        cage,
+        cage_az,
+    } = bodies(m, t, y);
     let mut f_inner = Vector3::zeros();
     let mut m_inner = Vector3::zeros();
     let mut f_outer = Vector3::zeros();
@@ -706,8 +754,12 @@ mod tests {
             y[b + ball::THETA] = pocket.angle() + delta;
             let got = pocket_offset(&m, 0.0, &y, j);
             assert!((got - r * delta.sin()).abs() < 1e-12, "{delta}: {got}");
-            let (inner, outer) = ring_motions(&m, 0.0, &y);
-            let cm = cage_at(&m, &y, &inner, &outer);
+            let Bodies {
+                inner,
+                outer,
+                cage: cm,
+                ..
+            } = bodies(&m, 0.0, &y);
             let az = Azimuth::new(y[b + ball::THETA]);
             let film = pocket_of(
                 &m,

@@ -4,7 +4,9 @@
 //! x86-64 processor, and under Debian's valgrind 3.19, which stopped on an instruction of a
 //! whole build for x86-64-v3. The hot functions (`race_contact::race_contact`, a pass of
 //! `race_contact_lanes::race_contacts`, a group of `cage_pocket_lanes::pocket_contacts`,
-//! `frames::azimuths`) are declared with [`twice_compiled!`]: compiled a second time with
+//! `frames::azimuths` and `frames::angles`, and the defect step bound,
+//! `dynamics::step_bound::defect_step_bound`, whose `trunc` and `mul_add` are library calls
+//! in the baseline) are declared with [`twice_compiled!`]: compiled a second time with
 //! AVX2 and FMA enabled, and that copy chosen here (valgrind runs it);
 //! `BEARING_SIM_CPU=baseline` keeps the baseline copy (since 2026-11-30 its fused steps
 //! and `floor` are libm calls, one a lane, so its instruction counts are no longer those
@@ -22,7 +24,7 @@ static CHOICE: AtomicU8 = AtomicU8::new(0);
 /// and they fuse only where the code asks (`mul_add`, rounded once in both: an FMA
 /// instruction in the wide copy, libm's `fma` in the baseline one; Rust contracts nothing
 /// into FMA by itself); tests compare them to the bit (`race_contact`, `race_contacts`,
-/// `azimuths`).
+/// `azimuths`, `angles`).
 macro_rules! twice_compiled {
     ($(#[$meta:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) $(-> $ret:ty)?
         = $body:path, wide $wide:ident;) => {

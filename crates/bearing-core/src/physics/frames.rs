@@ -11,9 +11,15 @@ use nalgebra::{Matrix3, Vector3};
 /// Cardan transformation matrix `A(eta, xi, lambda)` of eq. 1 (maps inertial to body
 /// components for rotations eta about X, xi about Y, lambda about Z).
 pub fn cardan(eta: f64, xi: f64, lambda: f64) -> Matrix3<f64> {
-    let (se, ce) = eta.sin_cos();
-    let (sx, cx) = xi.sin_cos();
-    let (sl, cl) = lambda.sin_cos();
+    cardan_of(&Azimuth::new(eta), &Azimuth::new(xi), &Azimuth::new(lambda))
+}
+
+/// [`cardan`] from the three angles' sines and cosines.
+#[inline]
+pub fn cardan_of(eta: &Azimuth, xi: &Azimuth, lambda: &Azimuth) -> Matrix3<f64> {
+    let (se, ce) = (eta.sin, eta.cos);
+    let (sx, cx) = (xi.sin, xi.cos);
+    let (sl, cl) = (lambda.sin, lambda.cos);
     Matrix3::new(
         cx * cl,
         ce * sl + se * sx * cl,
@@ -179,6 +185,12 @@ pub fn from_azimuth(a: &Vector3<f64>, theta: f64) -> Vector3<f64> {
 /// (body-to-inertial), from the Cardan matrix with eta = 0.
 pub fn tilt_matrix(beta_y: f64, beta_z: f64) -> Matrix3<f64> {
     cardan(0.0, beta_y, beta_z).transpose()
+}
+
+/// [`tilt_matrix`] from the two tilts' sines and cosines.
+#[inline]
+pub fn tilt_matrix_of(beta_y: &Azimuth, beta_z: &Azimuth) -> Matrix3<f64> {
+    cardan_of(&Azimuth::default(), beta_y, beta_z).transpose()
 }
 
 #[cfg(test)]

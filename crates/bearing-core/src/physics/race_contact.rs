@@ -78,6 +78,27 @@ impl RingMotion {
             tilted: rot != Matrix3::identity(),
         }
     }
+
+    /// [`RingMotion::new`] with the spin angle's azimuth given (the right-hand side takes
+    /// it with the cage's angles in one call of the lanes' `sin_cos`).
+    pub fn turned(
+        centre: Vector3<f64>,
+        rot: Matrix3<f64>,
+        velocity: Vector3<f64>,
+        spin: f64,
+        spin_angle: f64,
+        spin_azimuth: Azimuth,
+    ) -> RingMotion {
+        RingMotion {
+            centre,
+            rot,
+            velocity,
+            spin,
+            spin_angle,
+            spin_azimuth,
+            tilted: rot != Matrix3::identity(),
+        }
+    }
 }
 
 /// Motion of a ball.
