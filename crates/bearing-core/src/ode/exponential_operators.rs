@@ -35,6 +35,12 @@ const INV_FACTORIAL: [f64; 16] = {
 /// elsewhere `phi_0 = e^z` and `phi_{k+1} = (phi_k - 1/k!) / z`, which loses at most
 /// about a digit at `|z| = 1/2`.
 fn phis(x: f64, y: f64) -> [(f64, f64); 4] {
+    phis_with(x, y, || y.sin_cos())
+}
+
+/// [`phis`], with `(sin y, cos y)` from `trig` where it needs them (away from 0).
+#[inline]
+fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 4] {
     let mul = |a: (f64, f64), b: (f64, f64)| (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0);
     let mut out = [(0.0, 0.0); 4];
     if x * x + y * y < 0.25 {
@@ -53,7 +59,7 @@ fn phis(x: f64, y: f64) -> [(f64, f64); 4] {
     // an undamped mode's `z` is imaginary, a relaxing component's real: their library
     // calls at zero give exactly 1 and (y, 1), and cost ~40 instructions each
     let ex = if x == 0.0 { 1.0 } else { x.exp() };
-    let (sn, cs) = if y == 0.0 { (y, 1.0) } else { y.sin_cos() };
+    let (sn, cs) = if y == 0.0 { (y, 1.0) } else { trig() };
     out[0] = (ex * cs, ex * sn);
     let d = x * x + y * y;
     let inv = (x / d, -y / d);
@@ -179,7 +185,17 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     }
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
-    let mut ops = step_forms(&phis(0.0, 0.5 * w * h), &phis(0.0, w * h)).map(op);
+    // the full step's sine and cosine from the half step's by the double angle (within a
+    // few 1e-16 of the library's), where both step's `phi`s need them: one library call a
+    // mode instead of two
+    let (half, full) = (0.5 * w * h, w * h);
+    let mut half_trig = None;
+    let half_phis = phis_with(0.0, half, || *half_trig.insert(half.sin_cos()));
+    let full_phis = phis_with(0.0, full, || match half_trig {
+        Some((s, c)) => (2.0 * s * c, (c - s) * (c + s)),
+        None => full.sin_cos(),
+    });
+    let mut ops = step_forms(&half_phis, &full_phis).map(op);
     if w == 0.0 {
         // a free mode, L = [[0, 1], [0, 0]] nilpotent: g(tau L) = g(0) I + g'(0) tau L
         let slope = [1.0, 0.5, 1.0 / 6.0, 1.0 / 12.0, 0.0];
