@@ -128,7 +128,10 @@ pub fn land_force(
     let eta = p.viscosity;
     let (l, r) = (p.width, p.radius);
     let dw = cage_spin - ring_spin;
-    let mut torque = -2.0 * PI * eta * r * r * r * l * dw / (c * one.sqrt());
+    // `one^1.5` and `one^2.5` below from this root: libm's `pow` twice an evaluation was
+    // 0.7 % of the Table-1 case's time
+    let root = one.sqrt();
+    let mut torque = -2.0 * PI * eta * r * r * r * l * dw / (c * root);
     let mut force = Vector3::zeros();
     if e > 1e-15 {
         let eh_hat = Vector3::new(0.0, rel_pos.y / e, rel_pos.z / e);
@@ -139,8 +142,8 @@ pub fn land_force(
         let k0 = eta * l * l * l / (c * c);
         let de = eh_hat.dot(rel_vel) / c;
         let w_r = k0 * u * eh * eh / (one * one);
-        let w_t = 0.25 * PI * k0 * u * eh / one.powf(1.5) + 2.0 * k0 * r * eh * de / (one * one);
-        let w_sq = 0.5 * PI * k0 * r * (1.0 + 2.0 * eh * eh) * de / one.powf(2.5);
+        let w_t = 0.25 * PI * k0 * u * eh / (one * root) + 2.0 * k0 * r * eh * de / (one * one);
+        let w_sq = 0.5 * PI * k0 * r * (1.0 + 2.0 * eh * eh) * de / (one * one * root);
         force += -(w_r + w_sq) * eh_hat + w_t * t_hat;
         let pen = e - c * eps_crit;
         if pen > 0.0 {
