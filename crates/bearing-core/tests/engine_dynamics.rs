@@ -551,19 +551,21 @@ fn agrees_with_quasi_static(scene: &Scene, r: &SimResult) {
 /// Relative changes of the mean cage speed and of the pedestal Z band RMS (< 20 kHz, over the
 /// steady window) when the Table-1 scene of `case` is run under the paper's model at the
 /// default solver settings (rk4_fsal, rtol = atol = 1e-5) and 10 times tighter: each the
-/// mean of [`TOLERANCE_RUNS`] runs whose tolerances are 1 + 1e-3 j times those. One pair of
-/// runs measured the chaos as much as the tolerance: on the compound case, runs 1e-3 apart
-/// in tolerance scatter by 0.3-0.5 % in that band RMS (six runs each of two builds,
-/// 2026-11-30), and a pair read 1.0 % after a rounding-level change. Five runs a side
-/// bring the difference's standard error to about 0.3 %, a third of the 1 % limit. Under
-/// the preset's rheology law the runs scatter further (a 1e-8 change of the axial load
-/// moves the inner fault's band RMS by 2 %), so it is not measured there
-/// (docs/lab/benchmarks.md, "The default law's runs scatter").
-fn tolerance_changes(case: FaultCase) -> (f64, f64) {
+/// mean of `runs` runs whose tolerances are 1 + 1e-3 j times those. One pair of runs
+/// measured the chaos as much as the tolerance: on the compound case, runs 1e-3 apart in
+/// tolerance scatter by 0.3-0.5 % in that band RMS (six runs each of two builds,
+/// 2026-11-30), and on 2026-11-30 a rounding-level change of the engine made the single
+/// pair read 1.01 %, failing the 1 % limit (a second redesign for scatter: these tests
+/// moved to the paper's model for it first). Five runs a side bring the difference's
+/// standard error to about 0.3 %, a third of the limit. Under the preset's rheology law
+/// the runs scatter further (a 1e-8 change of the axial load moves the inner fault's band
+/// RMS by 2 %), so it is not measured there (docs/lab/benchmarks.md, "The default law's
+/// runs scatter").
+fn tolerance_changes(case: FaultCase, runs: usize) -> (f64, f64) {
     let default = paper_model(fault_case_scene("h7005c", case).unwrap());
     let mean_of = |base: &Scene, scale: f64| {
         let (mut cage, mut rms, mut steps) = (0.0, 0.0, 0);
-        for j in 0..TOLERANCE_RUNS {
+        for j in 0..runs {
             let mut s = base.clone();
             let k = scale * (1.0 + 1e-3 * j as f64);
             s.solver.rtol *= k;
@@ -573,20 +575,21 @@ fn tolerance_changes(case: FaultCase) -> (f64, f64) {
             rms += steady_band_rms(&r, "outer_ring_accel_z", 20e3).unwrap();
             steps += r.summary.stats.accepted_steps;
         }
-        let n = TOLERANCE_RUNS as f64;
-        (cage / n, rms / n, steps / TOLERANCE_RUNS as u64)
+        let n = runs as f64;
+        (cage / n, rms / n, steps / runs as u64)
     };
     let (ca, ra, sa) = mean_of(&default, 1.0);
     let (cb, rb, sb) = mean_of(&default, 0.1);
     let dc = (ca - cb).abs() / cb;
     let dr = (ra - rb).abs() / rb;
     eprintln!(
-        "{case:?}: mean cage speed {ca:.4} vs {cb:.4} rad/s ({dc:.1e}), mean RMS(<20 kHz) {ra:.4} vs {rb:.4} m/s^2 ({dr:.1e}), mean steps {sa} vs {sb}"
+        "{case:?}: mean cage speed {ca:.4} vs {cb:.4} rad/s ({dc:.1e}), \
+         mean RMS(<20 kHz) {ra:.4} vs {rb:.4} m/s^2 ({dr:.1e}), mean steps {sa} vs {sb}"
     );
     (dc, dr)
 }
 
-/// Runs a side in [`tolerance_changes`].
+/// Runs a side in [`tolerance_changes`] where the band RMS is asserted.
 const TOLERANCE_RUNS: usize = 5;
 
 // Tightening the default tolerance 10x (issues 2 and 10): the Table-1 scene (1000 -> 10000
@@ -600,21 +603,21 @@ const TOLERANCE_RUNS: usize = 5;
 
 #[test]
 fn tighter_tolerance_changes_little_inner_fault() {
-    let (dc, dr) = tolerance_changes(FaultCase::Inner);
+    let (dc, dr) = tolerance_changes(FaultCase::Inner, TOLERANCE_RUNS);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
     assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
 }
 
 #[test]
 fn tighter_tolerance_changes_little_outer_fault() {
-    let (dc, dr) = tolerance_changes(FaultCase::Outer);
+    let (dc, dr) = tolerance_changes(FaultCase::Outer, TOLERANCE_RUNS);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
     assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
 }
 
 #[test]
 fn tighter_tolerance_changes_little_compound_fault() {
-    let (dc, dr) = tolerance_changes(FaultCase::Compound);
+    let (dc, dr) = tolerance_changes(FaultCase::Compound, TOLERANCE_RUNS);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
     assert!(dr < 1e-2, "band RMS changed by {dr:.2e}");
 }
@@ -626,7 +629,8 @@ fn tighter_tolerance_keeps_healthy_cage_speed() {
     // loaded balls knocking in their pockets) is chaotic: 25 ms blocks scatter by ~4 %, and a
     // 1e-8 relative change of the axial load moves the 0.3 s RMS by ~1.6 %, as much as a
     // tolerance change does. It is printed here, not asserted (docs/lab/benchmarks.md).
-    let (dc, _) = tolerance_changes(FaultCase::None);
+    // The cage speed's limit is far above its change (1e-6), so one run a side does.
+    let (dc, _) = tolerance_changes(FaultCase::None, 1);
     assert!(dc < 1e-4, "mean cage speed changed by {dc:.2e}");
 }
 

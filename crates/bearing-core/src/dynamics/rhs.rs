@@ -55,12 +55,6 @@ impl Diagnostics {
     }
 }
 
-/// Rings as the contact functions see them.
-pub fn ring_motions(m: &Model, t: f64, y: &[f64]) -> (RingMotion, RingMotion) {
-    let b = bodies(m, t, y);
-    (b.inner, b.outer)
-}
-
 /// The rings and the cage as the contact functions see them, and the cage's spin as an
 /// azimuth: every caller takes them here, so the right-hand side and the output see the
 /// same numbers.
@@ -72,9 +66,9 @@ pub struct Bodies {
 }
 
 /// [`Bodies`] at `(t, y)`. The shaft's angle, the cage's spin angle and its two tilts take
-/// one call of the lanes' `sin_cos` ([`azimuths`]): four library calls an evaluation,
-/// two of them at the hundreds of radians the spins reach, were 1.6 % of the Table-1
-/// case's instructions.
+/// one call of the lanes' `sin_cos` ([`azimuths`]; a tilt's sine and cosine travel as an
+/// [`Azimuth`] too): their library calls, five an evaluation with the outer ring's and
+/// the tilt matrix's at zero, were about 0.8 % of the Table-1 case's instructions.
 pub fn bodies(m: &Model, t: f64, y: &[f64]) -> Bodies {
     let (i, o, c) = (m.layout.inner, m.layout.outer, m.layout.cage);
     let shaft_angle = m.shaft_angle(t);
@@ -89,7 +83,7 @@ pub fn bodies(m: &Model, t: f64, y: &[f64]) -> Bodies {
         &mut az,
     );
     let [shaft_az, cage_az, tilt_y, tilt_z] = az;
-    let inner = RingMotion::turned(
+    let inner = RingMotion::with_spin_azimuth(
         Vector3::new(y[i + inner::X], y[i + inner::Y], y[i + inner::Z]),
         if m.tilt_free {
             tilt_matrix(y[i + inner::TILT_Y], y[i + inner::TILT_Z])
@@ -105,7 +99,7 @@ pub fn bodies(m: &Model, t: f64, y: &[f64]) -> Bodies {
         shaft_angle,
         shaft_az,
     );
-    let outer = RingMotion::turned(
+    let outer = RingMotion::with_spin_azimuth(
         Vector3::new(0.0, y[o + outer::Y], y[o + outer::Z]),
         Matrix3::identity(),
         Vector3::new(0.0, y[o + outer::Y_DOT], y[o + outer::Z_DOT]),
@@ -113,7 +107,7 @@ pub fn bodies(m: &Model, t: f64, y: &[f64]) -> Bodies {
         0.0,
         Azimuth::default(),
     );
-    let cage = cage_at(m, y, &inner, &outer, [&tilt_y, &tilt_z]);
+    let cage = cage_at(m, y, &inner, &outer, [tilt_y, tilt_z]);
     Bodies {
         inner,
         outer,
@@ -147,12 +141,12 @@ pub fn ball_motion(y: &[f64], b: usize, az: &Azimuth) -> BallMotion {
 
 /// Cage motion from the state, its tilts given as azimuths.
 #[inline]
-pub fn cage_motion(m: &Model, y: &[f64], tilt: [&Azimuth; 2]) -> CageMotion {
+pub fn cage_motion(m: &Model, y: &[f64], tilt: [Azimuth; 2]) -> CageMotion {
     let c = m.layout.cage;
     CageMotion {
         centre: Vector3::new(y[c + cage::X], y[c + cage::Y], y[c + cage::Z]),
         velocity: Vector3::new(y[c + cage::X_DOT], y[c + cage::Y_DOT], y[c + cage::Z_DOT]),
-        rot: tilt_matrix_of(tilt[0], tilt[1]),
+        rot: tilt_matrix_of(&tilt[0], &tilt[1]),
         spin_angle: y[c + cage::SPIN],
         omega: Vector3::new(y[c + cage::W_X], y[c + cage::W_Y], y[c + cage::W_Z]),
     }
@@ -166,7 +160,7 @@ fn cage_at(
     y: &[f64],
     inner: &RingMotion,
     outer: &RingMotion,
-    tilt: [&Azimuth; 2],
+    tilt: [Azimuth; 2],
 ) -> CageMotion {
     if m.concentric_cage {
         let ring = if m.cage_guided_by_inner() {
@@ -758,17 +752,11 @@ mod tests {
                 inner,
                 outer,
                 cage: cm,
+                cage_az,
                 ..
             } = bodies(&m, 0.0, &y);
             let az = Azimuth::new(y[b + ball::THETA]);
-            let film = pocket_of(
-                &m,
-                &cm,
-                &Azimuth::new(cm.spin_angle),
-                j,
-                &ball_motion(&y, b, &az),
-            )
-            .film;
+            let film = pocket_of(&m, &cm, &cage_az, j, &ball_motion(&y, b, &az)).film;
             assert!(
                 got.abs() <= m.pocket.clearance - film + 1e-12,
                 "{delta}: {got} {film}"
@@ -897,7 +885,7 @@ mod tests {
                 }
             });
             for (t, y) in states.iter().step_by(7) {
-                let (inner, outer) = ring_motions(m, *t, y);
+                let Bodies { inner, outer, .. } = bodies(m, *t, y);
                 tilted += inner.tilted as usize;
                 let balls: Vec<BallMotion> = (0..m.z)
                     .map(|j| {
@@ -975,7 +963,7 @@ mod tests {
     /// per contact: the normal load passes through the ball's centre, so these are the
     /// strip sums alone, N m.
     fn traction_moments(m: &Model, t: f64, y: &[f64]) -> Vec<f64> {
-        let (inner, outer) = ring_motions(m, t, y);
+        let Bodies { inner, outer, .. } = bodies(m, t, y);
         (0..m.z)
             .flat_map(|j| {
                 let b = m.layout.ball(j);

@@ -91,6 +91,32 @@ mod tests {
         defect_step_bound(&m, 0.0, &y) * rate / d.half_angle
     }
 
+    /// The copy this processor runs is the baseline copy to the bit (`physics::cpu`), over
+    /// every ball at spread orbit angles (hundreds of radians, both signs), rates and
+    /// shaft times, for each fault case.
+    #[test]
+    fn the_two_copies_agree_to_the_bit() {
+        for case in [FaultCase::Inner, FaultCase::Outer, FaultCase::Compound] {
+            let s = fault_case_scene("h7005c", case).unwrap();
+            let m = Model::new(&s.validated().unwrap());
+            let mut y = vec![0.0; m.layout.len];
+            for k in 0..2000 {
+                for j in 0..m.z {
+                    let b = m.layout.ball(j);
+                    let x = (k * m.z + j) as f64;
+                    y[b + ball::THETA] = (x * 0.377).sin() * 900.0 + 0.013 * x;
+                    y[b + ball::THETA_DOT] = 300.0 + (x * 0.71).cos() * 250.0;
+                }
+                let t = 1e-4 * k as f64;
+                assert_eq!(
+                    defect_step_bound(&m, t, &y).to_bits(),
+                    step_bound_body(&m, t, &y).to_bits(),
+                    "{case:?} {k}"
+                );
+            }
+        }
+    }
+
     /// `within_a_turn` is `rem_euclid(TAU)` to the bit over the arguments it takes: both
     /// signs of zero, the ends, and a spread in between.
     #[test]

@@ -193,7 +193,7 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
     // the full step's sine and cosine from the half step's by the double angle (within a
-    // few 1e-16 of the library's), where both step's `phi`s need them: one library call a
+    // few 1e-16 of the library's), where both steps' `phi`s need them: one library call a
     // mode instead of two
     let (half, full) = (0.5 * w * h, w * h);
     let mut half_trig = None;
@@ -354,9 +354,9 @@ mod tests {
     }
 
     /// An undamped mode's operators (the full step's sine and cosine by the double angle
-    /// from the half step's) match the augmented matrix exponential from `omega h` = 0.3,
-    /// where the half step takes the series and the full step its own sine, to pi, the
-    /// alias bound, and past it. Velocities scaled by `w`; tolerance 1e-13 of the largest
+    /// from the half step's) match the augmented matrix exponential from `omega h` = 0.3
+    /// (both steps by the series) and 0.9 (the half step by the series, the full step its
+    /// own sine) to pi, the alias bound, and past it. Velocities scaled by `w`; tolerance 1e-13 of the largest
     /// entry: the double angle's few 1e-16 and the Pade exponential's own error, far
     /// below the 1e-9 the damped modes' test allows (a sine 1e-12 off fails it).
     #[test]

@@ -128,8 +128,8 @@ pub fn land_force(
     let eta = p.viscosity;
     let (l, r) = (p.width, p.radius);
     let dw = cage_spin - ring_spin;
-    // `one^1.5` and `one^2.5` below from this root: libm's `pow` twice an evaluation was
-    // 0.7 % of the Table-1 case's time
+    // `one^1.5` and `one^2.5` below from this root: libm's `pow` twice a station, four times
+    // a right-hand side, was 0.7 % of the Table-1 case's time
     let root = one.sqrt();
     let mut torque = -2.0 * PI * eta * r * r * r * l * dw / (c * root);
     let mut force = Vector3::zeros();

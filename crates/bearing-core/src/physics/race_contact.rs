@@ -68,20 +68,19 @@ impl RingMotion {
         spin: f64,
         spin_angle: f64,
     ) -> RingMotion {
-        RingMotion {
+        RingMotion::with_spin_azimuth(
             centre,
             rot,
             velocity,
             spin,
             spin_angle,
-            spin_azimuth: Azimuth::new(spin_angle),
-            tilted: rot != Matrix3::identity(),
-        }
+            Azimuth::new(spin_angle),
+        )
     }
 
     /// [`RingMotion::new`] with the spin angle's azimuth given (the right-hand side takes
     /// it with the cage's angles in one call of the lanes' `sin_cos`).
-    pub fn turned(
+    pub fn with_spin_azimuth(
         centre: Vector3<f64>,
         rot: Matrix3<f64>,
         velocity: Vector3<f64>,

@@ -184,10 +184,9 @@ impl CellQueue {
                 mean.lane(i)
             };
             let correction = j.qw * m - j.point;
-            // a queued strip's group has its state
-            let Some(st) = &mut states[j.group] else {
-                continue;
-            };
+            let st = states[j.group]
+                .as_mut()
+                .expect("a queued strip's group has its state");
             st.f_tr.add_to_lane(j.lane, &correction);
             st.f_h.add_to_lane(j.lane, &(j.h * correction));
             st.f_y.add_to_lane(j.lane, &(j.y * correction));
@@ -423,9 +422,7 @@ fn group_forces(
             tr[side] = traction;
         }
         let both = tr[0] + tr[1];
-        let Some(st) = &mut states[g] else {
-            continue;
-        };
+        let st = states[g].as_mut().expect("a loaded group has its state");
         st.f_tr = st.f_tr + both;
         st.f_h = st.f_h + both.scale(h);
         st.f_y = st.f_y + (tr[1] - tr[0]).scale(y);
