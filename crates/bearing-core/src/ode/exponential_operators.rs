@@ -69,6 +69,31 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
+/// [`phis`] on the real axis, as a relaxing component's operators take it: the same real
+/// parts to the bit (with `y` = 0 every complex product's imaginary terms are zeros, and
+/// subtracting a zero from a real part leaves it as it is), without those products: the
+/// relaxing components' `phis` were 1.6 % of the Table-1 case's instructions.
+fn phis_real(x: f64) -> [(f64, f64); 4] {
+    let mut out = [(0.0, 0.0); 4];
+    if x * x < 0.25 {
+        let mut p = INV_FACTORIAL[14];
+        for j in (0..11).rev() {
+            p = p * x + INV_FACTORIAL[j + 3];
+        }
+        out[3] = (p, 0.0);
+        for k in (0..3).rev() {
+            out[k] = (INV_FACTORIAL[k] + out[k + 1].0 * x, 0.0);
+        }
+        return out;
+    }
+    let inv = x / (x * x);
+    out[0] = (x.exp(), 0.0);
+    for k in 0..3 {
+        out[k + 1] = ((out[k].0 - INV_FACTORIAL[k]) * inv, 0.0);
+    }
+    out
+}
+
 /// Each operator's `tau` over `h`, and its combination of `phi_0..phi_3` at `tau L`: the
 /// one table every block's operators are built from.
 const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
@@ -222,7 +247,7 @@ pub(super) fn relax_operators(rate: f64, h: f64) -> [f64; OPS] {
     let mut ops = [0.0; OPS];
     for (o, (re, _)) in ops
         .iter_mut()
-        .zip(step_forms(&phis(0.5 * rate * h, 0.0), &phis(rate * h, 0.0)))
+        .zip(step_forms(&phis_real(0.5 * rate * h), &phis_real(rate * h)))
     {
         *o = re;
     }
@@ -235,6 +260,23 @@ mod tests {
 
     /// The series and the recurrence meet at |z| = 1/2 within 5e-14 (relative; the recurrence loses about a digit there), and both
     /// agree with `phi_1 = (e^z - 1)/z` in closed form away from it.
+    /// The real-axis `phi`s are the complex ones' real parts to the bit, across both forms
+    /// (series and recurrence), their meeting at 1/2, both zeros, and the rates' far end.
+    #[test]
+    fn the_real_axis_phis_are_the_complex_ones_to_the_bit() {
+        for k in -40_000..40_000 {
+            let x = k as f64 * 2.7e-4 + 1e-9 * (k as f64).sin();
+            for (r, c) in phis_real(x).iter().zip(phis(x, 0.0)) {
+                assert_eq!(r.0.to_bits(), c.0.to_bits(), "{x}");
+            }
+        }
+        for x in [0.0, -0.0, 0.5, -0.5, 0.499_999_999, -700.0, 1e-300, -1e-300] {
+            for (r, c) in phis_real(x).iter().zip(phis(x, 0.0)) {
+                assert_eq!(r.0.to_bits(), c.0.to_bits(), "{x}");
+            }
+        }
+    }
+
     #[test]
     fn phi_functions_agree_across_their_two_forms() {
         for (x, y) in [
