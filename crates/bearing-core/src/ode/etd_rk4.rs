@@ -82,8 +82,11 @@ pub struct LinearPart {
     /// phases with it at every sample. [`library_sin_cos`], or the problem's own within a
     /// few ulp of it (the bearing's lanes: libm's call a mode and sample was 0.8 % of the
     /// Table-1 case's instructions).
-    pub sin_cos4: fn([f64; 4]) -> ([f64; 4], [f64; 4]),
+    pub sin_cos4: SinCos4,
 }
+
+/// Four angles (rad) to their sines and cosines, side by side.
+pub type SinCos4 = fn([f64; 4]) -> ([f64; 4], [f64; 4]);
 
 /// [`LinearPart::sin_cos4`] by the library's `sin_cos`, one angle at a time.
 pub fn library_sin_cos(angles: [f64; 4]) -> ([f64; 4], [f64; 4]) {
