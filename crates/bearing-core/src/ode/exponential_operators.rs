@@ -56,10 +56,10 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
         }
         return out;
     }
-    // an undamped mode's `z` is imaginary, a relaxing component's real: their library
-    // calls at zero give exactly 1 and (y, 1), and cost ~40 instructions each
+    // an undamped mode's `z` is imaginary: the library's `exp(0)` gives exactly 1 and
+    // costs ~40 instructions (real `z` takes [`phis_real`])
     let ex = if x == 0.0 { 1.0 } else { x.exp() };
-    let (sn, cs) = if y == 0.0 { (y, 1.0) } else { trig() };
+    let (sn, cs) = trig();
     out[0] = (ex * cs, ex * sn);
     let d = x * x + y * y;
     let inv = (x / d, -y / d);
@@ -69,10 +69,11 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
-/// [`phis`] on the real axis, as a relaxing component's operators take it: the same real
-/// parts to the bit (with `y` = 0 every complex product's imaginary terms are zeros, and
-/// subtracting a zero from a real part leaves it as it is), without those products: the
-/// relaxing components' `phis` were 1.6 % of the Table-1 case's instructions.
+/// [`phis`] on the real axis, as the relaxing components' and the overdamped modes'
+/// operators take it: the same real parts to the bit (with `y` = 0 every complex product's
+/// imaginary terms are zeros, and subtracting a zero from a real part leaves it as it is),
+/// without those products: the relaxing components' `phis` were 1.6 % of the Table-1
+/// case's instructions.
 fn phis_real(x: f64) -> [(f64, f64); 4] {
     let mut out = [(0.0, 0.0); 4];
     if x * x < 0.25 {
@@ -179,7 +180,7 @@ fn block_operators<const K: usize>(
         forms.map(|form| complex_step(&p, y, &form))
     } else if (tau * disc.sqrt()).abs() >= 1e-3 {
         let s = tau * disc.sqrt();
-        let (pp, pm) = (phis(m + s, 0.0), phis(m - s, 0.0));
+        let (pp, pm) = (phis_real(m + s), phis_real(m - s));
         forms.map(|form| {
             let (gp, gm) = (sum(&pp, &form).0, sum(&pm, &form).0);
             (0.5 * (gp + gm), (gp - gm) / (2.0 * s))
