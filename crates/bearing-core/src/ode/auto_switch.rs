@@ -35,6 +35,7 @@
 //! trial costs one window at the worse price; a regime that changes (a ramp speeding up) is
 //! found within a doubling.
 
+use super::controller::StepEnd;
 use super::explicit_rk::ExplicitRk;
 use super::method::{LastStep, Method};
 use super::problem::JacobianSystem;
@@ -284,23 +285,23 @@ impl<S: JacobianSystem, E: Method<S>> Method<S> for AutoSwitch<E> {
         }
     }
 
-    fn accept_factor(&mut self, err: f64) -> f64 {
+    fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
         if self.rule == SwitchRule::MeasuredCost {
             self.prices.window_steps += 1;
             return if self.on_implicit {
-                self.implicit.accept_factor(err)
+                self.implicit.accept_factor(err, end)
             } else {
-                Method::<S>::accept_factor(&mut self.explicit, err)
+                Method::<S>::accept_factor(&mut self.explicit, err, end)
             };
         }
         let f = if self.on_implicit {
-            self.implicit.accept_factor(err)
+            self.implicit.accept_factor(err, end)
         } else {
             self.explicit_accepted += 1;
             if self.explicit_accepted > SETTLE {
                 self.explicit_limit = self.explicit_limit.max(self.last_h);
             }
-            Method::<S>::accept_factor(&mut self.explicit, err)
+            Method::<S>::accept_factor(&mut self.explicit, err, end)
         };
         let proposal = self.last_h * f;
         let crossing = if self.on_implicit {

@@ -5,8 +5,9 @@
 ///
 /// After an accepted step: a PI controller (Gustafsson) on the norms of this and the
 /// previous accepted step, which keeps a stability-limited step from oscillating across
-/// the limit; no growth right after a rejection. After a rejection: the elementary
-/// controller, never above 0.9, and 0.1 for a non-finite error.
+/// the limit; no growth right after a rejection. A step cut short to land on a point
+/// ([`StepEnd::Cut`]) enters with its norm scaled to the step it was cut from. After a
+/// rejection: the elementary controller, never above 0.9, and 0.1 for a non-finite error.
 #[derive(Debug, Clone)]
 pub struct Controller {
     /// `-0.7 / q`, `0.4 / q` and `-1 / q`.
@@ -15,6 +16,29 @@ pub struct Controller {
     elementary_exp: f64,
     prev_err: f64,
     just_rejected: bool,
+    /// The estimate's order.
+    q: f64,
+}
+
+/// How an accepted step's length was set, which says whether its error may serve as the PI
+/// term's previous error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepEnd {
+    /// The controller's proposal, or a steady limit below it (the method's own limit, the
+    /// largest step): successive steps of about one length, whose errors the PI term compares.
+    Chosen,
+    /// Cut short to land on a point the problem sets (a defect's edge or centre) or on the
+    /// run's end. Its norm, at a length nobody chose, enters as the step it was cut from
+    /// would have erred, `err (chosen/taken)^q`, and the next step is a factor of that
+    /// step, at most 1 (the scaled norm extrapolates towards a point where the problem is
+    /// not smooth). Taken as it was, a sliver's norm (0.3 us against the 8.5 us around it
+    /// errs ~1e-8 as much) read to the PI term as the error falling by orders of magnitude
+    /// and cut the next full step to 0.2-0.3 of its length; on the Table-1 compound case
+    /// that cost 3 % of the right-hand sides (docs/lab/benchmarks.md).
+    Cut {
+        /// The step chosen before the cut over the step taken, > 1.
+        chosen_over_taken: f64,
+    },
 }
 
 impl Controller {
@@ -26,19 +50,26 @@ impl Controller {
             elementary_exp: -1.0 / q,
             prev_err: 1.0,
             just_rejected: false,
+            q,
         }
     }
 
-    /// Factor for the next step after an accepted one.
-    pub fn accept_factor(&mut self, err: f64) -> f64 {
-        let e = err.max(1e-10);
+    /// Factor for the next step after an accepted one, which ended as `end` says, relative
+    /// to the step taken.
+    pub fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
+        let ratio = match end {
+            StepEnd::Chosen => 1.0,
+            StepEnd::Cut { chosen_over_taken } => chosen_over_taken,
+        };
+        let e = (err * ratio.powf(self.q)).max(1e-10);
         let mut f = 0.9 * e.powf(self.err_exp) * self.prev_err.powf(self.prev_exp);
-        if self.just_rejected {
+        if self.just_rejected || end != StepEnd::Chosen {
             f = f.min(1.0);
         }
         self.prev_err = e;
         self.just_rejected = false;
-        f.clamp(0.2, 4.0)
+        // relative to the chosen step, then to the step taken
+        f.clamp(0.2, 4.0) * ratio
     }
 
     /// Factor for the retry after a rejected step.
@@ -59,5 +90,49 @@ impl Controller {
         } else {
             (0.9 * err.powf(self.elementary_exp)).clamp(0.2, 4.0)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sliver cut short with a tiny norm asks for the step it was cut from again, not
+    /// more, and leaves the next full step's factor as the steady one's.
+    #[test]
+    fn a_cut_step_enters_as_the_step_it_was_cut_from() {
+        let steady = |c: &mut Controller| {
+            for _ in 0..10 {
+                c.accept_factor(0.1, StepEnd::Chosen);
+            }
+        };
+        let mut c = Controller::new(4);
+        steady(&mut c);
+        let f_steady = c.accept_factor(0.1, StepEnd::Chosen);
+        // a sliver of 1/25 of the chosen step: its norm scales as (1/25)^4
+        let sliver = 0.1 / 25f64.powi(4);
+        let f = c.accept_factor(
+            sliver,
+            StepEnd::Cut {
+                chosen_over_taken: 25.0,
+            },
+        );
+        assert!((f / 25.0 - 1.0).abs() < 1e-12, "{f}");
+        let f_after = c.accept_factor(0.1, StepEnd::Chosen);
+        assert!(
+            (f_after / f_steady - 1.0).abs() < 1e-12,
+            "{f_after} {f_steady}"
+        );
+
+        // a cut step that errs as much as a full one predicts a shorter chosen step
+        let mut c = Controller::new(4);
+        steady(&mut c);
+        let f = c.accept_factor(
+            0.5,
+            StepEnd::Cut {
+                chosen_over_taken: 2.0,
+            },
+        );
+        assert!(f < 1.0, "{f}");
     }
 }

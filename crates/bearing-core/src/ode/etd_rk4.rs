@@ -33,7 +33,7 @@
 // The stage formulas index the state and the stages at one component.
 #![allow(clippy::needless_range_loop)]
 
-use super::controller::Controller;
+use super::controller::{Controller, StepEnd};
 use super::error_norm::ErrorNorm;
 use super::exponential_operators::{
     damped_operator, mode_operators, relax_operators, ModeOperator, E_HALF, F1, F2, F3, OPS,
@@ -557,8 +557,8 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
     fn f_new(&self) -> Option<&[f64]> {
         Some(&self.f_new)
     }
-    fn accept_factor(&mut self, err: f64) -> f64 {
-        self.controller.accept_factor(err)
+    fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
+        self.controller.accept_factor(err, end)
     }
     fn reject_factor(&mut self, err: f64) -> f64 {
         self.controller.reject_factor(err)

@@ -3,7 +3,7 @@
 //! tableau's error estimate, the [`ErrorNorm`] and the [`Controller`]. It owns every
 //! buffer: a step does not allocate.
 
-use super::controller::Controller;
+use super::controller::{Controller, StepEnd};
 use super::error_norm::ErrorNorm;
 use super::method::Method;
 use super::problem::OdeSystem;
@@ -204,8 +204,8 @@ impl<S: OdeSystem> Method<S> for ExplicitRk {
     fn f_new(&self) -> Option<&[f64]> {
         ExplicitRk::f_new(self)
     }
-    fn accept_factor(&mut self, err: f64) -> f64 {
-        self.controller().map_or(1.0, |c| c.accept_factor(err))
+    fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
+        self.controller().map_or(1.0, |c| c.accept_factor(err, end))
     }
     fn reject_factor(&mut self, err: f64) -> f64 {
         self.controller().map_or(1.0, |c| c.reject_factor(err))
@@ -274,7 +274,7 @@ mod tests {
             let c = rk.controller().unwrap();
             h *= match (elementary, accepted) {
                 (true, _) => c.elementary_factor(err),
-                (false, true) => c.accept_factor(err),
+                (false, true) => c.accept_factor(err, StepEnd::Chosen),
                 (false, false) => c.reject_factor(err),
             };
         }

@@ -1,5 +1,6 @@
 //! What a one-step method offers the solver.
 
+use super::controller::StepEnd;
 use super::problem::OdeSystem;
 use super::stats::StepStats;
 
@@ -26,8 +27,8 @@ pub trait Method<S: OdeSystem> {
     fn f_new(&self) -> Option<&[f64]> {
         None
     }
-    /// Factor for the next step after an accepted one.
-    fn accept_factor(&mut self, err: f64) -> f64;
+    /// Factor for the next step after an accepted one, which ended as `end` says.
+    fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64;
     /// Factor for the retry after a rejected one.
     fn reject_factor(&mut self, err: f64) -> f64;
     /// Called before each attempt's step is chosen, at its start `(t, y)` with

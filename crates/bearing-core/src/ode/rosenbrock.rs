@@ -17,7 +17,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::block_jacobian::BlockJacobian;
-use super::controller::Controller;
+use super::controller::{Controller, StepEnd};
 use super::error_norm::ErrorNorm;
 use super::method::Method;
 use super::problem::JacobianSystem;
@@ -152,9 +152,9 @@ impl Rosenbrock {
     }
 
     /// Step-size factor after an accepted step; the Jacobian has served one more step.
-    pub fn accept_factor(&mut self, err: f64) -> f64 {
+    pub fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
         self.jac_age = self.jac_age.saturating_add(1);
-        self.controller.accept_factor(err)
+        self.controller.accept_factor(err, end)
     }
 
     /// Step-size factor after a rejected step.
@@ -179,8 +179,8 @@ impl<S: JacobianSystem> Method<S> for Rosenbrock {
     fn y_new(&self) -> &[f64] {
         Rosenbrock::y_new(self)
     }
-    fn accept_factor(&mut self, err: f64) -> f64 {
-        Rosenbrock::accept_factor(self, err)
+    fn accept_factor(&mut self, err: f64, end: StepEnd) -> f64 {
+        Rosenbrock::accept_factor(self, err, end)
     }
     fn reject_factor(&mut self, err: f64) -> f64 {
         Rosenbrock::reject_factor(self, err)

@@ -4,6 +4,7 @@
 //! grow or shrink the next; the problem bounds steps through [`OdeSystem::step_limit`]
 //! and evaluates the derivative. Nothing allocates after [`Solver::new`].
 
+use super::controller::StepEnd;
 use super::error::SolveError;
 use super::hermite::hermite;
 use super::method::{LastStep, Method};
@@ -127,12 +128,19 @@ impl<M> Solver<M> {
                 .begin_attempt(sys, self.t, &self.y, &self.f, &mut self.stats);
             let proposal = self.h;
             let remaining = lim.t_end - self.t;
-            let mut h = if self.method.controlled() {
+            // the step the controller and the steady limits allow, then cut to the problem's
+            // next point
+            let chosen = if self.method.controlled() {
                 let h = self.h.min(lim.max_step);
-                let h = self.method.step_limit().map_or(h, |l| h.min(l));
-                sys.step_limit(self.t, &self.y).map_or(h, |l| h.min(l))
+                self.method.step_limit().map_or(h, |l| h.min(l))
             } else {
                 lim.initial_step
+            };
+            let mut h = if self.method.controlled() {
+                sys.step_limit(self.t, &self.y)
+                    .map_or(chosen, |l| chosen.min(l))
+            } else {
+                chosen
             };
             // land exactly on the end without a sliver step
             if h >= remaining * (1.0 - 1e-12) {
@@ -163,11 +171,22 @@ impl<M> Solver<M> {
                 continue;
             }
             if self.method.controlled() {
-                let next = h * self.method.accept_factor(err);
-                // A step cut short by a bound (a defect point, the end) says nothing against
-                // the longer step the controller had proposed: keep that proposal unless the
-                // short step's own error asks for less.
-                self.h = if h < proposal && next >= h {
+                let end = if h < chosen {
+                    StepEnd::Cut {
+                        chosen_over_taken: chosen / h,
+                    }
+                } else {
+                    StepEnd::Chosen
+                };
+                let next = h * self.method.accept_factor(err, end);
+                // A step cut short to a point is priced as the step it was cut from
+                // (`StepEnd::Cut`), so its factor sets the next step. One held below the
+                // proposal by a steady limit (the largest step, the method's own) says
+                // nothing against that proposal: keep it unless the step's own error asks
+                // for less.
+                self.h = if end != StepEnd::Chosen {
+                    next
+                } else if h < proposal && next >= h {
                     next.max(proposal)
                 } else {
                     next
@@ -294,6 +313,70 @@ mod tests {
         // four evaluations per attempt, the fourth reused as the next first stage
         let st = s.stats;
         assert_eq!(st.rhs_evals, 1 + 4 * (st.accepted + st.rejected));
+    }
+
+    /// x'' = -x with points every step must end on, as the bearing's defect edges: a pair
+    /// `gap` s apart every `period` s.
+    struct Pointed {
+        period: f64,
+        gap: f64,
+    }
+    impl OdeSystem for Pointed {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) {
+            dy[0] = y[1];
+            dy[1] = -y[0];
+        }
+        fn step_limit(&self, t: f64, _y: &[f64]) -> Option<f64> {
+            // the next point beyond t (a step that landed on one looks to the next)
+            let k = (t / self.period + 1e-9).floor();
+            let second = k * self.period + self.gap;
+            let next = if second > t * (1.0 + 1e-12) + 1e-15 {
+                second
+            } else {
+                (k + 1.0) * self.period
+            };
+            Some(next - t)
+        }
+    }
+
+    /// Steps cut short to land on points cost one step a point and no more. The step is
+    /// held at the largest step, with its error norm near 0.1 (as the bearing's at its
+    /// alias bound); a pair of points 0.01 of that step apart leaves a sliver whose error
+    /// (~1e-8 of the others') had read to the PI controller as the error falling by
+    /// orders of magnitude: the next full step's factor came out at its floor, 0.2, and
+    /// the steps took several more to grow back.
+    #[test]
+    fn points_cost_one_step_each() {
+        let h_max = 0.02;
+        let periods = 100.0;
+        let period = 20.5 * h_max;
+        let mut sys = Pointed {
+            period,
+            gap: 0.01 * h_max,
+        };
+        // 1e-7 puts the error norm of a largest step near 0.1 here
+        let norm = ErrorNorm::new(1e-7, 1e-7, vec![1.0; 2], vec![false; 2]);
+        let method = ExplicitRk::adaptive(&RK4_FSAL, 2, norm);
+        let mut lim = limits(periods * period);
+        lim.max_step = h_max;
+        let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], lim);
+        while !s.finished() {
+            s.step(&mut sys).unwrap();
+        }
+        let st = s.stats;
+        // 21 steps from the second point of a pair to the next pair's first (20 of the
+        // largest step and one of 0.49 of it) and the sliver: 22 a period; 2 % of slack for
+        // the initial step's growth
+        let ideal = 22.0 * periods;
+        assert!(
+            (st.accepted as f64) <= 1.02 * ideal,
+            "{} accepted against {ideal}: {st:?}",
+            st.accepted
+        );
+        assert_eq!(st.rejected, 0, "{st:?}");
     }
 
     #[test]
