@@ -6,7 +6,7 @@ use super::step_bound::defect_step_bound;
 use crate::model::layout::{ball, cage, inner, outer, BALL, CAGE, INNER, OUTER};
 use crate::model::Model;
 use crate::ode::block_jacobian::{difference_step, BlockJacobian};
-use crate::ode::etd_rk4::{LinearPart, Oscillator, RelaxingGroup};
+use crate::ode::etd_rk4::{LinearPart, Oscillator, RelaxingGroup, RelaxingPairs};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock_tableau::ROS34PRW_EXPLICIT_STABILITY;
 use crate::physics::frames::{azimuths, Azimuth};
@@ -292,16 +292,27 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 ///   sliding makes the soft mode overdamped, -1.2e6 1/s near 1500 rpm on the Table-1
 ///   case's loaded balls, which held `etd_rk4` to ~2 us there (docs/lab/benchmarks.md,
 ///   "The sliding ball's damping and the cage taken exactly");
-/// - the relaxation of the rolling spin `w_t` and of the spin about the axis `w_x` (the
-///   traction's slip relaxation: `w_t` at 1.1e5 1/s and `w_x` at 5.8e4 1/s on a loaded
-///   ball at 10000 rpm, both near 1e6 1/s at 1000-2000 rpm);
+/// - the relaxation of the rolling spin `w_t` (the traction's slip relaxation: 1.1e5 1/s
+///   on a loaded ball at 10000 rpm, near 1e6 1/s at 1000-2000 rpm);
+/// - each ball's orbital speed and spin about the axis `w_x` as one relaxing pair, whole:
+///   `w_x` relaxes at 5.8e4 1/s at 10000 rpm, near 1e6 1/s at 1000-2000 rpm, and there the
+///   orbital speed drives it at ~2e6 1/s while relaxing itself at ~3.6e5 1/s (a loaded
+///   ball's block at 0.01 s of the Table-1 ramp: `[[-3.58e5, 2.0e4], [2.10e6, -8.23e5]]`,
+///   eigenvalues -2.8e5 and -9.0e5). With `w_x` alone at its diagonal rate that coupling,
+///   in the remainder, held the ramp's steps from 0.02 to 0.1 s below the alias bound
+///   (4 800 steps whose largest error was `w_x`), and the orbital speed at its own rate
+///   cost steps; whole, the pair took the Table-1 case from 66 355 to 64 701 accepted
+///   steps (45-run means) and 2000 rpm from 30 759 to 24 193 right-hand sides, as cheap as
+///   10000 rpm (docs/lab/benchmarks.md). Difference steps 1e-3 rad/s for the orbital speed
+///   (1.8e-5 m/s at the pitch radius) and 1e-2 rad/s for the spin, inside the traction
+///   curve's linear part as below;
 /// - the cage's radial velocities, which its land film damps, and its spin, which the
 ///   pocket and land films damp (at 1 Pa s the spin held the step once the radial
 ///   velocities were taken: 10 868 of 55 345 attempts rejected on the `very_viscous`
 ///   stress scene; with it, 2 022 of 30 618).
 ///
 /// Balls do not act on each other directly, so every ball's column goes in one
-/// difference: nine right-hand sides per linearisation.
+/// difference: ten right-hand sides per linearisation (two for the pairs).
 ///
 /// - Position step 1e-9 m: a thousandth of the contact deformation at the preset's loads
 ///   (a few um), so the secant is the tangent stiffness within about 1e-3, far above
@@ -314,9 +325,9 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 /// - Cage velocity step 1e-5 m/s, small beside its whirl (eccentricity ~1e-5 m at ~440
 ///   rad/s, ~4e-3 m/s); its spin step 1e-2 rad/s, as the balls'. Its radial velocities as
 ///   one 2x2 block (the film's cross-coupling) took the same steps as two rates: not kept.
-/// - The spin along the radius `w_r` and the orbital speed are left out: at 1000-5000 rpm
-///   they couple to `w_x` too strongly for a diagonal rate (a 3x3 block would be needed;
-///   taken diagonally, the orbital speed cost steps).
+/// - The spin along the radius `w_r` is left out: at 1000-5000 rpm it couples to `w_x`
+///   too strongly for a diagonal rate (with the pair above, a 3x3 block would be needed);
+///   it still holds some steps of the ramp's first 0.02 s.
 /// - Modes slower than 1e3 rad/s (rates, 1/s) stay explicit: an RK4 step of at most
 ///   1e-4 s resolves them (`omega h` <= 0.1).
 /// - Damping below 1e5 1/s stays explicit: at the alias bound's ~8.5 us step its `c h` is
@@ -357,9 +368,14 @@ pub fn linear_part(m: &Model) -> LinearPart {
         position_step: 1e-9,
         velocity_step: Some(3e-5),
         slowest_damping: 1e5,
+        relaxing_pairs: vec![RelaxingPairs {
+            pairs: (0..l.balls)
+                .map(|j| [l.ball(j) + ball::THETA_DOT, l.ball(j) + ball::W_X])
+                .collect(),
+            steps: [1e-3, 1e-2],
+        }],
         relaxing: vec![
             every_ball(ball::W_T),
-            every_ball(ball::W_X),
             cage_rate(cage::Y_DOT, 1e-5),
             cage_rate(cage::Z_DOT, 1e-5),
             cage_rate(cage::W_X, 1e-2),
