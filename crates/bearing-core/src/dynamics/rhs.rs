@@ -749,11 +749,7 @@ mod tests {
             let got = pocket_offset(&m, 0.0, &y, j);
             assert!((got - r * delta.sin()).abs() < 1e-12, "{delta}: {got}");
             let Bodies {
-                inner,
-                outer,
-                cage: cm,
-                cage_az,
-                ..
+                cage: cm, cage_az, ..
             } = bodies(&m, 0.0, &y);
             let az = Azimuth::new(y[b + ball::THETA]);
             let film = pocket_of(&m, &cm, &cage_az, j, &ball_motion(&y, b, &az)).film;
