@@ -28,18 +28,27 @@ pub enum StepEnd {
     /// largest step): successive steps of about one length, whose errors the PI term compares.
     Chosen,
     /// Cut short to land on a point the problem sets (a defect's edge or centre) or on the
-    /// run's end. Its norm, at a length nobody chose, enters as the step it was cut from
-    /// would have erred, `err (chosen/taken)^q`, and the next step is a factor of that
-    /// step, at most 1 (the scaled norm extrapolates towards a point where the problem is
-    /// not smooth). Taken as it was, a sliver's norm (0.3 us against the 8.5 us around it
-    /// errs ~1e-8 as much) read to the PI term as the error falling by orders of magnitude
-    /// and cut the next full step to 0.2-0.3 of its length; on the Table-1 compound case
-    /// that cost 3 % of the right-hand sides (docs/lab/benchmarks.md).
+    /// run's end. Its norm, at a length nobody chose, is scaled to the step it was cut
+    /// from, `err (chosen/taken)^q`, and the next step is a factor of that step, at most 1
+    /// (the scaled norm extrapolates towards a point where the problem is not smooth).
+    /// The scaled norm becomes the PI term's previous one only while the cut is at most
+    /// [`MAX_SCALED_CUT`] and the norm not zero; a shorter sliver's norm says nothing of
+    /// the step around it, and the memory keeps the last one's. Taken as it was, a
+    /// sliver's norm (0.33 us against the 8.5 us around it erred 1e-8 as much) read to the
+    /// PI term as the error falling by orders of magnitude and cut the next full step to
+    /// about 0.3 of its length; on the Table-1 compound case that cost 3 % of the
+    /// right-hand sides (docs/lab/benchmarks.md).
     Cut {
         /// The step chosen before the cut over the step taken, > 1.
         chosen_over_taken: f64,
     },
 }
+
+/// Longest cut (chosen over taken step) whose scaled norm the PI term remembers: in the
+/// Table-1 case's step log a cut to 1/4 erred within a factor 4 of the `h^q` scaling, a
+/// sliver of 1/26 about 200 times below it, where `(chosen/taken)^q` would also magnify
+/// the sliver's rounding.
+pub const MAX_SCALED_CUT: f64 = 10.0;
 
 impl Controller {
     pub fn new(q: u32) -> Self {
@@ -66,7 +75,9 @@ impl Controller {
         if self.just_rejected || end != StepEnd::Chosen {
             f = f.min(1.0);
         }
-        self.prev_err = e;
+        if ratio <= MAX_SCALED_CUT && (err > 0.0 || end == StepEnd::Chosen) {
+            self.prev_err = e;
+        }
         self.just_rejected = false;
         // relative to the chosen step, then to the step taken
         f.clamp(0.2, 4.0) * ratio
@@ -97,42 +108,50 @@ impl Controller {
 mod tests {
     use super::*;
 
-    /// A sliver cut short with a tiny norm asks for the step it was cut from again, not
-    /// more, and leaves the next full step's factor as the steady one's.
+    fn steady(c: &mut Controller) {
+        for _ in 0..10 {
+            c.accept_factor(0.1, StepEnd::Chosen);
+        }
+    }
+
+    fn cut(ratio: f64) -> StepEnd {
+        StepEnd::Cut {
+            chosen_over_taken: ratio,
+        }
+    }
+
+    /// A sliver (1/25 of the chosen step, past `MAX_SCALED_CUT`) with a tiny norm asks for
+    /// the step it was cut from again, not more, and leaves the next full step's factor as
+    /// the steady one's, as does a cut whose norm is exactly zero.
+    #[test]
+    fn a_sliver_leaves_the_controller_as_it_was() {
+        for (ratio, err) in [(25.0, 0.1 / 25f64.powi(5)), (25.0, 0.0), (2.0, 0.0)] {
+            let mut c = Controller::new(4);
+            steady(&mut c);
+            let f_steady = c.clone().accept_factor(0.1, StepEnd::Chosen);
+            let f = c.accept_factor(err, cut(ratio));
+            assert!((f / ratio - 1.0).abs() < 1e-12, "{ratio} {err}: {f}");
+            let f_after = c.accept_factor(0.1, StepEnd::Chosen);
+            assert!(
+                (f_after / f_steady - 1.0).abs() < 1e-12,
+                "{ratio} {err}: {f_after} {f_steady}"
+            );
+        }
+    }
+
+    /// A cut to half the step whose norm equals the steady steps' 0.1 enters as the step it
+    /// was cut from would have erred, 0.1 2^4 = 1.6: the next chosen step is
+    /// 0.9 1.6^-0.175 0.1^0.1 = 0.66 of that step (the old controller, taking 0.1 as it
+    /// was, kept the proposal), and the chosen step after has 1.6 as its previous norm.
     #[test]
     fn a_cut_step_enters_as_the_step_it_was_cut_from() {
-        let steady = |c: &mut Controller| {
-            for _ in 0..10 {
-                c.accept_factor(0.1, StepEnd::Chosen);
-            }
-        };
         let mut c = Controller::new(4);
         steady(&mut c);
-        let f_steady = c.accept_factor(0.1, StepEnd::Chosen);
-        // a sliver of 1/25 of the chosen step: its norm scales as (1/25)^4
-        let sliver = 0.1 / 25f64.powi(4);
-        let f = c.accept_factor(
-            sliver,
-            StepEnd::Cut {
-                chosen_over_taken: 25.0,
-            },
-        );
-        assert!((f / 25.0 - 1.0).abs() < 1e-12, "{f}");
-        let f_after = c.accept_factor(0.1, StepEnd::Chosen);
-        assert!(
-            (f_after / f_steady - 1.0).abs() < 1e-12,
-            "{f_after} {f_steady}"
-        );
-
-        // a cut step that errs as much as a full one predicts a shorter chosen step
-        let mut c = Controller::new(4);
-        steady(&mut c);
-        let f = c.accept_factor(
-            0.5,
-            StepEnd::Cut {
-                chosen_over_taken: 2.0,
-            },
-        );
-        assert!(f < 1.0, "{f}");
+        let f = c.accept_factor(0.1, cut(2.0));
+        let expect = 0.9 * 1.6f64.powf(-0.175) * 0.1f64.powf(0.1);
+        assert!((f / 2.0 / expect - 1.0).abs() < 1e-12, "{f} {expect}");
+        let f_next = c.accept_factor(0.1, StepEnd::Chosen);
+        let expect = 0.9 * 0.1f64.powf(-0.175) * 1.6f64.powf(0.1);
+        assert!((f_next / expect - 1.0).abs() < 1e-12, "{f_next} {expect}");
     }
 }

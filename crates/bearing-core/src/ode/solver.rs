@@ -171,6 +171,7 @@ impl<M> Solver<M> {
                 continue;
             }
             if self.method.controlled() {
+                debug_assert!(h > 0.0, "a step of {h} s");
                 let end = if h < chosen {
                     StepEnd::Cut {
                         chosen_over_taken: chosen / h,

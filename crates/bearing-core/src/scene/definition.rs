@@ -420,8 +420,8 @@ pub enum Integrator {
     /// The exponential Runge-Kutta method ETDRK4 (order 4, RK4_FSAL's error estimate), exact
     /// on each ball's contact oscillator (its axial and radial motion on its two Hertz
     /// contacts, with a mode's damping where it passes 1e5 1/s, linearised by differences
-    /// every 80 steps), on the relaxation of its spins `w_t` and `w_x` and on the cage's
-    /// radial velocities and spin: the contact modes rotated exactly, never damped numerically or
+    /// every 80 steps), on the relaxation of its spin `w_t`, of its orbital speed and spin
+    /// `w_x` together (one 2x2 block) and on the cage's radial velocities and spin: the contact modes rotated exactly, never damped numerically or
     /// unstable, the step held on them only to `omega h <= pi` (1.11 times RK4's stability
     /// limit) for accuracy (docs/reference/model.md, "Solver and integrators").
     EtdRk4,
