@@ -55,7 +55,7 @@ impl StressScene {
 /// ball-race contact modes: measured 0.43-2.73x at 20 ms and 0.1 s (2026-11-29; 0.5-2.2x
 /// under the paper's model; 0.58-3.37x at 0.1 s on 2026-11-30 under `auto_etd`, against a
 /// reference 0.81 times as costly as `auto_slip`'s; 0.57-3.54x on the twenty-fourth
-/// session's build, 0.55-3.39x on the twenty-fifth's, 0.58-2.79x on the twenty-sixth's), so
+/// session's build, 0.55-3.39x on the twenty-fifth's, 0.58-2.74x on the twenty-sixth's), so
 /// 4x leaves room for the start-up transient of short runs and for defect edges.
 const SAME_COST: f64 = 4.0;
 
@@ -68,7 +68,7 @@ const SAME_COST: f64 = 4.0;
 /// bound (6.1x): there the scene checks the invariants, the bench's 0.1 s run the cost
 /// (215.41x on 2026-11-30 against `auto_etd`'s cheaper reference; 179.46x on the
 /// twenty-fourth session's build, whose azimuths and contact logarithms moved at rounding
-/// level; 182.84x on the twenty-fifth's, 182.66x on the twenty-sixth's).
+/// level; 182.84x on the twenty-fifth's, 182.70x on the twenty-sixth's).
 const WHIRL_AT_LIMIT_SPEED: f64 = 250.0;
 
 /// `auto` at the limit speed under the paper's model: measured 2.5-2.8x at 0.1 s (its
