@@ -381,12 +381,7 @@ pub fn output_forces(
     track: Option<&BalanceTrack>,
     loads_of: Option<usize>,
 ) -> OutputForces {
-    let Bodies {
-        inner,
-        outer,
-        cage,
-        cage_az,
-    } = bodies(m, t, y);
+    let motion = bodies(m, t, y);
     // a concentric cage guided by the outer ring passes its radial load there
     let pockets_reach_outer = m.concentric_cage && !m.cage_guided_by_inner();
     let mut f_outer = Vector3::zeros();
@@ -397,10 +392,10 @@ pub fn output_forces(
     let mut outer_contacts = [ContactResult::default(); PASS];
     let mut pockets = [PocketResult::default(); PASS];
     for first in (0..m.z).step_by(PASS) {
-        let pass = ball_pass(m, y, first, &inner, &outer, track, None);
-        pass.contacts(m, &m.outer_race, &outer, &mut outer_contacts);
+        let pass = ball_pass(m, y, first, &motion.inner, &motion.outer, track, None);
+        pass.contacts(m, &m.outer_race, &motion.outer, &mut outer_contacts);
         if pockets_reach_outer {
-            pass.pockets(m, &cage, &cage_az, first, &mut pockets);
+            pass.pockets(m, &motion.cage, &motion.cage_az, first, &mut pockets);
         }
         let n = pass.n;
         for (k, (ball, co)) in pass.balls[..n].iter().zip(&outer_contacts[..n]).enumerate() {
@@ -408,7 +403,7 @@ pub fn output_forces(
             f_outer += co.force_on_ring;
             if loads_of == Some(j) {
                 // (a load is the same to the bit one by one and side by side)
-                let ci = race_contact(&m.inner_race, &inner, ball, &m.contact);
+                let ci = race_contact(&m.inner_race, &motion.inner, ball, &m.contact);
                 ball_loads = [ci.load, co.load];
             }
             if pockets_reach_outer {
@@ -417,7 +412,7 @@ pub fn output_forces(
         }
     }
     if m.land_on_outer || pockets_reach_outer {
-        if let Some(lr) = cage_on_land(m, &cage, &inner, &outer) {
+        if let Some(lr) = cage_on_land(m, &motion.cage, &motion.inner, &motion.outer) {
             f_cage += lr.force_on_cage;
             if m.land_on_outer {
                 f_outer -= lr.force_on_cage;
@@ -504,12 +499,7 @@ pub fn rhs_tracked(
     track: Option<&BalanceTrack>,
 ) {
     let l = &m.layout;
-    let Bodies {
-        inner,
-        outer,
-        cage,
-        cage_az,
-    } = bodies(m, t, y);
+    let motion = bodies(m, t, y);
     let mut f_inner = Vector3::zeros();
     let mut m_inner = Vector3::zeros();
     let mut f_outer = Vector3::zeros();
@@ -525,10 +515,10 @@ pub fn rhs_tracked(
     let mut pockets = [PocketResult::default(); PASS];
     for first in (0..m.z).step_by(PASS) {
         let record = diag.as_deref_mut().map(|d| &mut d.track);
-        let pass = ball_pass(m, y, first, &inner, &outer, track, record);
-        pass.contacts(m, &m.inner_race, &inner, &mut inner_contacts);
-        pass.contacts(m, &m.outer_race, &outer, &mut outer_contacts);
-        pass.pockets(m, &cage, &cage_az, first, &mut pockets);
+        let pass = ball_pass(m, y, first, &motion.inner, &motion.outer, track, record);
+        pass.contacts(m, &m.inner_race, &motion.inner, &mut inner_contacts);
+        pass.contacts(m, &m.outer_race, &motion.outer, &mut outer_contacts);
+        pass.pockets(m, &motion.cage, &motion.cage_az, first, &mut pockets);
         let (azimuths, balls, imbalances) = (&pass.azimuths, &pass.balls, &pass.imbalances);
         for k in 0..pass.n {
             let j = first + k;
@@ -603,7 +593,7 @@ pub fn rhs_tracked(
     // Cage-land (eqs. 23-28), relative to the guiding ring, over the land's width.
     let mut cage_torque_x = 0.0;
     let mut land_ecc = 0.0;
-    if let Some(lr) = cage_on_land(m, &cage, &inner, &outer) {
+    if let Some(lr) = cage_on_land(m, &motion.cage, &motion.inner, &motion.outer) {
         f_cage += lr.force_on_cage;
         m_cage += lr.moment_on_cage;
         cage_torque_x = lr.torque_on_cage;

@@ -234,10 +234,13 @@ mod tests {
     use crate::ode::explicit_rk::ExplicitRk;
     use crate::ode::tableau::{CASH_KARP, CLASSICAL_RK4, RK4_FSAL};
 
-    /// x'' = -x, with an optional step bound and a blow-up time.
+    /// x'' = -x, with an optional step bound, a blow-up time, and optional points every
+    /// step must end on, as the bearing's defect edges: a pair `gap` s apart every
+    /// `period` s, `(period, gap)`.
     struct Osc {
         bound: f64,
         blow_up_at: f64,
+        points: Option<(f64, f64)>,
     }
     impl OdeSystem for Osc {
         fn dim(&self) -> usize {
@@ -251,8 +254,19 @@ mod tests {
                 -y[0]
             };
         }
-        fn step_limit(&self, _t: f64, _y: &[f64]) -> Option<f64> {
-            Some(self.bound)
+        fn step_limit(&self, t: f64, _y: &[f64]) -> Option<f64> {
+            let Some((period, gap)) = self.points else {
+                return Some(self.bound);
+            };
+            // the next point beyond t (a step that landed on one looks to the next)
+            let k = (t / period + 1e-9).floor();
+            let second = k * period + gap;
+            let next = if second > t * (1.0 + 1e-12) + 1e-15 {
+                second
+            } else {
+                (k + 1.0) * period
+            };
+            Some(self.bound.min(next - t))
         }
     }
 
@@ -269,6 +283,7 @@ mod tests {
         Osc {
             bound,
             blow_up_at: f64::INFINITY,
+            points: None,
         }
     }
 
@@ -316,33 +331,6 @@ mod tests {
         assert_eq!(st.rhs_evals, 1 + 4 * (st.accepted + st.rejected));
     }
 
-    /// x'' = -x with points every step must end on, as the bearing's defect edges: a pair
-    /// `gap` s apart every `period` s.
-    struct Pointed {
-        period: f64,
-        gap: f64,
-    }
-    impl OdeSystem for Pointed {
-        fn dim(&self) -> usize {
-            2
-        }
-        fn rhs(&mut self, _t: f64, y: &[f64], dy: &mut [f64]) {
-            dy[0] = y[1];
-            dy[1] = -y[0];
-        }
-        fn step_limit(&self, t: f64, _y: &[f64]) -> Option<f64> {
-            // the next point beyond t (a step that landed on one looks to the next)
-            let k = (t / self.period + 1e-9).floor();
-            let second = k * self.period + self.gap;
-            let next = if second > t * (1.0 + 1e-12) + 1e-15 {
-                second
-            } else {
-                (k + 1.0) * self.period
-            };
-            Some(next - t)
-        }
-    }
-
     /// Steps cut short to land on points cost one step a point and no more. The step is
     /// held at the largest step, with its error norm near 0.1 (as the bearing's at its
     /// alias bound); a pair of points 0.01 of that step apart leaves a sliver whose error
@@ -354,9 +342,9 @@ mod tests {
         let h_max = 0.02;
         let periods = 100.0;
         let period = 20.5 * h_max;
-        let mut sys = Pointed {
-            period,
-            gap: 0.01 * h_max,
+        let mut sys = Osc {
+            points: Some((period, 0.01 * h_max)),
+            ..osc(f64::INFINITY)
         };
         // 1e-7 puts the error norm of a largest step near 0.1 here
         let norm = ErrorNorm::new(1e-7, 1e-7, vec![1.0; 2], vec![false; 2]);
@@ -395,8 +383,8 @@ mod tests {
     #[test]
     fn non_finite_values_fail_the_step() {
         let mut sys = Osc {
-            bound: f64::INFINITY,
             blow_up_at: 0.05,
+            ..osc(f64::INFINITY)
         };
         let method = ExplicitRk::fixed(&CLASSICAL_RK4, 2);
         let mut s = Solver::new(&mut sys, method, vec![1.0, 0.0], limits(0.1));
@@ -414,8 +402,8 @@ mod tests {
     #[test]
     fn a_controller_that_cannot_meet_the_tolerance_underflows() {
         let mut sys = Osc {
-            bound: f64::INFINITY,
             blow_up_at: 0.05,
+            ..osc(f64::INFINITY)
         };
         let norm = ErrorNorm::new(1e-6, 1e-6, vec![1.0; 2], vec![false; 2]);
         let method = ExplicitRk::adaptive(&CASH_KARP, 2, norm);
