@@ -212,12 +212,7 @@ fn block_operators<const K: usize>(
 /// 1/s.
 pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     if c != 0.0 {
-        // the two half-step operators, then the three full-step ones
-        let form = |k: usize| OPERATOR_FORMS[k].1;
-        let a = mode_matrix(w, c);
-        let [e_half, phi1_half] = block_operators(a, 0.5 * h, [form(E_HALF), form(PHI1_HALF)]);
-        let [f1, f2, f3] = block_operators(a, h, [form(F1), form(F2), form(F3)]);
-        return [e_half, phi1_half, f1, f2, f3];
+        return block_step_operators(mode_matrix(w, c), h);
     }
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
@@ -246,9 +241,10 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     ops
 }
 
-/// The five operators of a step of `h` on a pair of components relaxing together under the
-/// real 2x2 block `a` (1/s).
+/// The five operators of a step of `h` under the real 2x2 block `a` (1/s): a pair of
+/// components relaxing together, or a damped mode ([`mode_operators`]).
 pub(super) fn block_step_operators(a: [[f64; 2]; 2], h: f64) -> [ModeOperator; OPS] {
+    // the two half-step operators, then the three full-step ones
     let form = |k: usize| OPERATOR_FORMS[k].1;
     let [e_half, phi1_half] = block_operators(a, 0.5 * h, [form(E_HALF), form(PHI1_HALF)]);
     let [f1, f2, f3] = block_operators(a, h, [form(F1), form(F2), form(F3)]);
@@ -271,8 +267,6 @@ pub(super) fn relax_operators(rate: f64, h: f64) -> [f64; OPS] {
 mod tests {
     use super::*;
 
-    /// The series and the recurrence meet at |z| = 1/2 within 5e-14 (relative; the recurrence loses about a digit there), and both
-    /// agree with `phi_1 = (e^z - 1)/z` in closed form away from it.
     /// The real-axis `phi`s are the complex ones' real parts to the bit, across both forms
     /// (series and recurrence), their meeting at 1/2, both zeros, and the rates' far end.
     #[test]
@@ -290,6 +284,9 @@ mod tests {
         }
     }
 
+    /// The series and the recurrence meet at |z| = 1/2 within 5e-14 (relative; the
+    /// recurrence loses about a digit there), and both agree with `phi_1 = (e^z - 1)/z` in
+    /// closed form away from it.
     #[test]
     fn phi_functions_agree_across_their_two_forms() {
         for (x, y) in [
