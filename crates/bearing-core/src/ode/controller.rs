@@ -32,22 +32,23 @@ pub enum StepEnd {
     /// from, `err (chosen/taken)^q`, and the next step is a factor of that step, at most 1
     /// (the scaled norm extrapolates towards a point where the problem is not smooth).
     /// The scaled norm becomes the PI term's previous one only while the cut is at most
-    /// [`MAX_SCALED_CUT`] and the norm not zero; a shorter sliver's norm says nothing of
-    /// the step around it, and the memory keeps the last one's. Taken as it was, a
-    /// sliver's norm (0.33 us against the 8.5 us around it erred 1e-8 as much) read to the
-    /// PI term as the error falling by orders of magnitude and cut the next full step to
-    /// about 0.3 of its length; on the Table-1 compound case that cost 3 % of the
-    /// right-hand sides (docs/lab/benchmarks.md).
+    /// [`MAX_SCALED_CUT`] and the norm not zero; past that, the memory keeps the last
+    /// one's. Taken as it was, a sliver's norm (0.33 us against the 8.5 us around it: 3.8e-7
+    /// against 0.083) read to the PI term as the error falling by five orders of magnitude
+    /// and cut the next full step to 0.32 of its length; on the Table-1 compound case that
+    /// cost 3 % of the right-hand sides (docs/lab/benchmarks.md).
     Cut {
         /// The step chosen before the cut over the step taken, > 1.
         chosen_over_taken: f64,
     },
 }
 
-/// Longest cut (chosen over taken step) whose scaled norm the PI term remembers: in the
-/// Table-1 case's step log a cut to 1/4 erred within a factor 4 of the `h^q` scaling, a
-/// sliver of 1/26 about 200 times below it, where `(chosen/taken)^q` would also magnify
-/// the sliver's rounding.
+/// Longest cut (chosen over taken step) whose scaled norm the PI term remembers. The
+/// scaling holds where the log looked (the Table-1 case's 0.33 us sliver, 1/26 of its
+/// step, scaled to 0.16 against its neighbours' 0.083), but `(chosen/taken)^q` also
+/// magnifies the norm's rounding, ~1e-11 at a tolerance of 1e-5: to 1e-7 at 10, to ~2 at
+/// the run's shortest cuts (1.2e-8 s of 8.5 us, 1/700). 10 keeps it far below the norms
+/// the controller acts on, at the cost of what the longer slivers could have said.
 pub const MAX_SCALED_CUT: f64 = 10.0;
 
 impl Controller {

@@ -334,7 +334,7 @@ mod tests {
     /// Steps cut short to land on points cost one step a point and no more. The step is
     /// held at the largest step, with its error norm near 0.1 (as the bearing's at its
     /// alias bound); a pair of points 0.01 of that step apart leaves a sliver whose error
-    /// (~1e-8 of the others') had read to the PI controller as the error falling by
+    /// (0.01^4, ~1e-8, of the others') had read to the PI controller as the error falling by
     /// orders of magnitude: the next full step's factor came out at its floor, 0.2, and
     /// the steps took several more to grow back.
     #[test]
