@@ -376,51 +376,50 @@ fn group_forces(
         // the slip's change across the cell, `(-y/root) cell c1 + cell c2` at -y and +y
         let slope = y / root * cell;
         let cell_c2 = c2.scale(cell);
-        let mut tr = [Vec3x4::ZERO; 2];
-        for (side, sign) in [(0, -1.0), (1, 1.0)] {
-            let v = if side == 0 {
-                mid - across
-            } else {
-                mid + across
-            };
-            let span = c1.scale(-sign * slope) + cell_c2;
-            let s2 = v.norm_squared();
-            let l2 = span.norm_squared();
-            let point = strip.takes_point_value(s2, l2);
-            let (mu, huge) = strip.mu_over_s(s2.sqrt());
-            let weight = if side == 0 {
-                pair.weight_minus
-            } else {
-                pair.weight_plus
-            };
-            let qw = weight * q;
-            let mut traction = v.scale(mu).scale(qw);
-            for l in 0..LANES {
-                if !loaded[l] || (point[l] && !huge[l]) {
-                    continue;
+        // one side of the pair, `sign` -1 at -y and +1 at +y: written out twice with
+        // constants, so each copy folds its side's choices (a loop over the two left them to
+        // run time; a closure is compiled without the AVX2 copy's features)
+        macro_rules! side {
+            ($sign:expr, $v:expr, $weight:expr) => {{
+                let (sign, v, weight): (f64, Vec3x4, f64) = ($sign, $v, $weight);
+                let span = c1.scale(-sign * slope) + cell_c2;
+                let s2 = v.norm_squared();
+                let l2 = span.norm_squared();
+                let point = strip.takes_point_value(s2, l2);
+                let (mu, huge) = strip.mu_over_s(s2.sqrt());
+                let qw = weight * q;
+                let mut traction = v.scale(mu).scale(qw);
+                for l in 0..LANES {
+                    if !loaded[l] || (point[l] && !huge[l]) {
+                        continue;
+                    }
+                    if huge[l] {
+                        let mean = qw.0[l] * strip.lane(l).cell_mean(v.lane(l), span.lane(l));
+                        traction.set_lane(l, &mean);
+                    } else {
+                        // its point value now, its cell mean with three others' later
+                        let job = CellJob {
+                            group: g,
+                            lane: l,
+                            h: h.0[l],
+                            y: sign * y.0[l],
+                            c: strip.c_of(l),
+                            k: strip.k_of(l),
+                            v: v.lane(l),
+                            span: span.lane(l),
+                            qw: qw.0[l],
+                            point: traction.lane(l),
+                        };
+                        queue.push(job, law.limiting, states);
+                    }
                 }
-                if huge[l] {
-                    let mean = qw.0[l] * strip.lane(l).cell_mean(v.lane(l), span.lane(l));
-                    traction.set_lane(l, &mean);
-                } else {
-                    // its point value now, its cell mean with three others' later
-                    let job = CellJob {
-                        group: g,
-                        lane: l,
-                        h: h.0[l],
-                        y: sign * y.0[l],
-                        c: strip.c_of(l),
-                        k: strip.k_of(l),
-                        v: v.lane(l),
-                        span: span.lane(l),
-                        qw: qw.0[l],
-                        point: traction.lane(l),
-                    };
-                    queue.push(job, law.limiting, states);
-                }
-            }
-            tr[side] = traction;
+                traction
+            }};
         }
+        let tr = [
+            side!(-1.0, mid - across, pair.weight_minus),
+            side!(1.0, mid + across, pair.weight_plus),
+        ];
         let both = tr[0] + tr[1];
         let st = states[g].as_mut().expect("a loaded group has its state");
         st.f_tr = st.f_tr + both;
