@@ -28,6 +28,12 @@ pub enum BenchWhat {
         /// Simulated time per case, s.
         #[arg(long, default_value_t = 0.5)]
         duration: f64,
+        /// Rounds over the four cases (1-15). Each case's wall time is then the median of
+        /// its rounds, with their range: the rounds take the cases in turn, so the
+        /// machine's drift under a sustained load reaches each alike (docs/lab/benchmarks.md).
+        /// Every round must repeat its case's steps exactly.
+        #[arg(long, default_value_t = 1)]
+        runs: usize,
     },
     /// Run time against error of every integrator on the compound-fault H7005C, against a
     /// tight reference checked by a second method.
@@ -115,7 +121,7 @@ pub enum BenchWhat {
 
 pub fn main(args: BenchArgs) -> CliResult {
     match args.what {
-        BenchWhat::Cases { duration } => cases(duration),
+        BenchWhat::Cases { duration, runs } => cases(duration, runs),
         BenchWhat::WorkPrecision {
             on,
             tolerances,
@@ -159,37 +165,83 @@ pub fn main(args: BenchArgs) -> CliResult {
     }
 }
 
-fn cases(duration: f64) -> CliResult {
-    println!("| case | wall time (s) | accepted | rejected | RHS evaluations | smallest step (s) | largest step (s) | mean cage speed (rad/s) | slip (%) |");
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for case in [
+fn cases(duration: f64, runs: usize) -> CliResult {
+    if !(1..=15).contains(&runs) {
+        return Err(format!("--runs: must be 1 to 15 (got {runs})").into());
+    }
+    let cases = [
         FaultCase::None,
         FaultCase::Inner,
         FaultCase::Outer,
         FaultCase::Compound,
-    ] {
+    ];
+    let mut scenes = Vec::new();
+    for case in cases {
         let mut s = fault_case_scene("h7005c", case).expect("preset");
         s.solver.duration = duration;
-        let r = simulate(&s.validated()?, RunControl::default())?;
-        let st = &r.summary.stats;
-        let finite = r
-            .channels
-            .channels
-            .iter()
-            .all(|c| c.data.iter().all(|v| v.is_finite()));
-        if !finite {
-            return Err(format!("{case:?}: non-finite samples").into());
+        scenes.push(s.validated()?);
+    }
+    // each case's first round's result, and every round's wall time
+    let mut firsts = Vec::new();
+    let mut walls = vec![Vec::new(); cases.len()];
+    for round in 0..runs {
+        if runs > 1 {
+            eprintln!("round {} of {runs}", round + 1);
         }
+        for (k, (case, scene)) in cases.iter().zip(&scenes).enumerate() {
+            let r = simulate(scene, RunControl::default())?;
+            let st = &r.summary.stats;
+            let finite = r
+                .channels
+                .channels
+                .iter()
+                .all(|c| c.data.iter().all(|v| v.is_finite()));
+            if !finite {
+                return Err(format!("{case:?}: non-finite samples").into());
+            }
+            walls[k].push(st.wall_time);
+            if round == 0 {
+                firsts.push(r.summary);
+                continue;
+            }
+            let first = &firsts[k].stats;
+            if (st.accepted_steps, st.rhs_evaluations)
+                != (first.accepted_steps, first.rhs_evaluations)
+            {
+                return Err(format!(
+                    "{case:?}: round {} took {} steps and {} evaluations, round 1 {} and {}: \
+                     the run is not deterministic",
+                    round + 1,
+                    st.accepted_steps,
+                    st.rhs_evaluations,
+                    first.accepted_steps,
+                    first.rhs_evaluations
+                )
+                .into());
+            }
+        }
+    }
+    println!("| case | wall time (s) | accepted | rejected | RHS evaluations | smallest step (s) | largest step (s) | mean cage speed (rad/s) | slip (%) |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    for ((case, summary), w) in cases.iter().zip(&firsts).zip(&mut walls) {
+        let st = &summary.stats;
+        w.sort_by(f64::total_cmp);
+        let wall = if runs == 1 {
+            format!("{:.2}", w[0])
+        } else {
+            // the median (of an even count, the mean of the middle two) and the range
+            let median = 0.5 * (w[(runs - 1) / 2] + w[runs / 2]);
+            format!("{median:.3} ({:.3}-{:.3})", w[0], w[runs - 1])
+        };
         println!(
-            "| {case:?} | {:.2} | {} | {} | {} | {:.2e} | {:.2e} | {:.3} | {:.3} |",
-            st.wall_time,
+            "| {case:?} | {wall} | {} | {} | {} | {:.2e} | {:.2e} | {:.3} | {:.3} |",
             st.accepted_steps,
             st.rejected_steps,
             st.rhs_evaluations,
             st.min_step,
             st.max_step,
-            r.summary.mean_cage_speed,
-            100.0 * r.summary.cage_slip
+            summary.mean_cage_speed,
+            100.0 * summary.cage_slip
         );
     }
     Ok(())

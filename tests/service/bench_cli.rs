@@ -230,3 +230,35 @@ fn stiffness_prints_each_part_at_each_state() {
     ]);
     assert_eq!(zero, table);
 }
+
+/// `bench cases --runs 2` on a 5 ms run: each case's row once, its wall time the median of
+/// its two rounds with their range (read back as three numbers in order), the rounds'
+/// steps checked equal by the bench itself; `--runs` out of range is refused before
+/// anything runs.
+#[test]
+fn cases_take_the_median_of_their_rounds() {
+    let (table, log) = bench(&["cases", "--duration", "0.005", "--runs", "2"]);
+    assert_eq!(log.matches("round ").count(), 2, "{log}");
+    for case in ["None", "Inner", "Outer", "Compound"] {
+        let r = rows(&table, case);
+        assert_eq!(r.len(), 1, "{table}");
+        let wall: Vec<f64> = r[0][1]
+            .split([' ', '(', ')', '-'])
+            .filter(|p| !p.is_empty())
+            .map(|p| p.parse().unwrap())
+            .collect();
+        assert_eq!(wall.len(), 3, "{table}");
+        assert!(wall[1] <= wall[0] && wall[0] <= wall[2], "{table}");
+        assert!(r[0][3].parse::<u64>().unwrap() > 0, "{table}");
+    }
+    for runs in ["0", "16"] {
+        let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
+            .args(["bench", "cases", "--runs", runs])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert!(!out.status.success(), "{stderr}");
+        assert!(stderr.contains("--runs: must be 1 to 15"), "{stderr}");
+        assert!(!stderr.contains("round"), "{stderr}");
+    }
+}
