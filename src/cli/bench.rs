@@ -29,9 +29,9 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 0.5)]
         duration: f64,
         /// Rounds over the four cases (1-15). Each case's wall time is then the median of
-        /// its rounds, with their range: the rounds take the cases in turn, so the
-        /// machine's drift under a sustained load reaches each alike (docs/lab/benchmarks.md).
-        /// Every round must repeat its case's steps exactly.
+        /// its rounds, with their range; each round starts one case further on, so the
+        /// machine's drift over a long bench does not fall on one case
+        /// (docs/lab/benchmarks.md). Every round must repeat its case's steps exactly.
         #[arg(long, default_value_t = 1)]
         runs: usize,
     },
@@ -182,14 +182,16 @@ fn cases(duration: f64, runs: usize) -> CliResult {
         scenes.push(s.validated()?);
     }
     // each case's first round's result, and every round's wall time
-    let mut firsts = Vec::new();
+    let mut firsts: Vec<Option<_>> = (0..cases.len()).map(|_| None).collect();
     let mut walls = vec![Vec::new(); cases.len()];
     for round in 0..runs {
         if runs > 1 {
             eprintln!("round {} of {runs}", round + 1);
         }
-        for (k, (case, scene)) in cases.iter().zip(&scenes).enumerate() {
-            let r = simulate(scene, RunControl::default())?;
+        // each round starts one case further on, so no case is always the last
+        for k in (0..cases.len()).map(|i| (i + round) % cases.len()) {
+            let case = cases[k];
+            let r = simulate(&scenes[k], RunControl::default())?;
             let st = &r.summary.stats;
             let finite = r
                 .channels
@@ -200,13 +202,12 @@ fn cases(duration: f64, runs: usize) -> CliResult {
                 return Err(format!("{case:?}: non-finite samples").into());
             }
             walls[k].push(st.wall_time);
-            if round == 0 {
-                firsts.push(r.summary);
+            let Some(first) = &firsts[k] else {
+                firsts[k] = Some(r.summary);
                 continue;
-            }
-            let first = &firsts[k].stats;
+            };
             if (st.accepted_steps, st.rhs_evaluations)
-                != (first.accepted_steps, first.rhs_evaluations)
+                != (first.stats.accepted_steps, first.stats.rhs_evaluations)
             {
                 return Err(format!(
                     "{case:?}: round {} took {} steps and {} evaluations, round 1 {} and {}: \
@@ -214,8 +215,8 @@ fn cases(duration: f64, runs: usize) -> CliResult {
                     round + 1,
                     st.accepted_steps,
                     st.rhs_evaluations,
-                    first.accepted_steps,
-                    first.rhs_evaluations
+                    first.stats.accepted_steps,
+                    first.stats.rhs_evaluations
                 )
                 .into());
             }
@@ -223,15 +224,14 @@ fn cases(duration: f64, runs: usize) -> CliResult {
     }
     println!("| case | wall time (s) | accepted | rejected | RHS evaluations | smallest step (s) | largest step (s) | mean cage speed (rad/s) | slip (%) |");
     println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- |");
-    for ((case, summary), w) in cases.iter().zip(&firsts).zip(&mut walls) {
+    for ((case, summary), w) in cases.iter().zip(&firsts).zip(&walls) {
+        let summary = summary.as_ref().expect("every case ran");
         let st = &summary.stats;
-        w.sort_by(f64::total_cmp);
         let wall = if runs == 1 {
             format!("{:.2}", w[0])
         } else {
-            // the median (of an even count, the mean of the middle two) and the range
-            let median = 0.5 * (w[(runs - 1) / 2] + w[runs / 2]);
-            format!("{median:.3} ({:.3}-{:.3})", w[0], w[runs - 1])
+            let (median, low, high) = median_and_range(w);
+            format!("{median:.3} ({low:.3}-{high:.3})")
         };
         println!(
             "| {case:?} | {wall} | {} | {} | {} | {:.2e} | {:.2e} | {:.3} | {:.3} |",
@@ -245,6 +245,15 @@ fn cases(duration: f64, runs: usize) -> CliResult {
         );
     }
     Ok(())
+}
+
+/// The median of `w` (of an even count, the mean of the middle two), its least and its
+/// greatest.
+fn median_and_range(w: &[f64]) -> (f64, f64, f64) {
+    let mut w = w.to_vec();
+    w.sort_by(f64::total_cmp);
+    let n = w.len();
+    (0.5 * (w[(n - 1) / 2] + w[n / 2]), w[0], w[n - 1])
 }
 
 fn scene(
@@ -409,4 +418,16 @@ fn work_precision(
         eprintln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median_and_range;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median_and_range(&[3.0, 1.0, 2.0]), (2.0, 1.0, 3.0));
+        assert_eq!(median_and_range(&[4.0, 1.0, 3.0, 2.0]), (2.5, 1.0, 4.0));
+        assert_eq!(median_and_range(&[1.5]), (1.5, 1.5, 1.5));
+    }
 }

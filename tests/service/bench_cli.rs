@@ -232,9 +232,9 @@ fn stiffness_prints_each_part_at_each_state() {
 }
 
 /// `bench cases --runs 2` on a 5 ms run: each case's row once, its wall time the median of
-/// its two rounds with their range (read back as three numbers in order), the rounds'
-/// steps checked equal by the bench itself; `--runs` out of range is refused before
-/// anything runs.
+/// its two rounds with their range (read back as three numbers in order; the median
+/// itself is `median_and_range`'s, tested in `cli::bench`), the rounds' steps checked
+/// equal by the bench itself; `--runs` out of range is refused before anything runs.
 #[test]
 fn cases_take_the_median_of_their_rounds() {
     let (table, log) = bench(&["cases", "--duration", "0.005", "--runs", "2"]);
@@ -249,7 +249,9 @@ fn cases_take_the_median_of_their_rounds() {
             .collect();
         assert_eq!(wall.len(), 3, "{table}");
         assert!(wall[1] <= wall[0] && wall[0] <= wall[2], "{table}");
-        assert!(r[0][3].parse::<u64>().unwrap() > 0, "{table}");
+        // accepted steps and evaluations (columns 2 and 4; 1 is the wall time)
+        assert!(r[0][2].parse::<u64>().unwrap() > 0, "{table}");
+        assert!(r[0][4].parse::<u64>().unwrap() > r[0][2].parse::<u64>().unwrap());
     }
     for runs in ["0", "16"] {
         let out = Command::new(env!("CARGO_BIN_EXE_bearing-sim"))
