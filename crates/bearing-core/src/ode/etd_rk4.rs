@@ -162,31 +162,34 @@ fn damped_dense(w: f64, c: f64, h: f64, s: f64, start: [f64; 3], end: [f64; 3]) 
     (qs + q, u)
 }
 
-/// `-d acc / d x` of every oscillator by two differences (all oscillators at once, one
-/// column of `x` at a time, two right-hand sides): `x` its positions or velocities, as
-/// `moved` picks.
+/// `sign d f[rows] / d y[moved]` of every item's 2x2 block by two differences (all items
+/// at once, one column at a time, `steps[col]` apart, two right-hand sides): an
+/// oscillator's `-d acc / d pos` or `-d acc / d vel`, a relaxing pair's block.
 #[allow(clippy::too_many_arguments)]
-fn secant_columns<S: OdeSystem>(
+fn secant_columns<S: OdeSystem, T>(
     sys: &mut S,
     t: f64,
     y: &[f64],
     f0: &[f64],
-    oscillators: &[Oscillator],
-    moved: impl Fn(&Oscillator) -> [usize; 2],
-    step: f64,
+    items: &[T],
+    moved: impl Fn(&T) -> [usize; 2],
+    rows: impl Fn(&T) -> [usize; 2],
+    steps: [f64; 2],
+    sign: f64,
     tmp: &mut [f64],
     acc: &mut [f64],
     out: &mut [[[f64; 2]; 2]],
 ) {
     for col in 0..2 {
         tmp.copy_from_slice(y);
-        for o in oscillators {
-            tmp[moved(o)[col]] += step;
+        for it in items {
+            tmp[moved(it)[col]] += steps[col];
         }
         sys.rhs(t, tmp, acc);
-        for (o, k) in oscillators.iter().zip(out.iter_mut()) {
+        for (it, k) in items.iter().zip(out.iter_mut()) {
+            let r = rows(it);
             for row in 0..2 {
-                k[row][col] = -(acc[o.vel[row]] - f0[o.vel[row]]) / step;
+                k[row][col] = sign * (acc[r[row]] - f0[r[row]]) / steps[col];
             }
         }
     }
@@ -212,7 +215,8 @@ pub struct EtdRk4 {
     pair_blocks: Vec<[[f64; 2]; 2]>,
     pairs_now: Vec<usize>,
     pair_ops: Vec<[ModeOperator; OPS]>,
-    /// Blocks found not decaying so far (their second component relaxed alone).
+    /// Blocks found not decaying so far (their second component relaxed alone where its
+    /// rate passes `slowest`).
     pub pairs_declined: u64,
     /// Each oscillator's two modes' operators.
     mode_ops: Vec<[[ModeOperator; OPS]; 2]>,
@@ -307,6 +311,7 @@ impl EtdRk4 {
             let oscillators = &self.part.oscillators;
             let dp = self.part.position_step;
             let stiffness = &mut self.stiffness;
+            let vel = |o: &Oscillator| o.vel;
             secant_columns(
                 sys,
                 t,
@@ -314,7 +319,9 @@ impl EtdRk4 {
                 f0,
                 oscillators,
                 |o| o.pos,
-                dp,
+                vel,
+                [dp; 2],
+                -1.0,
                 tmp,
                 acc,
                 stiffness,
@@ -322,7 +329,21 @@ impl EtdRk4 {
             evals += 2;
             if let Some(dv) = self.part.velocity_step {
                 let damping = &mut self.damping;
-                secant_columns(sys, t, y, f0, oscillators, |o| o.vel, dv, tmp, acc, damping);
+                let steps = [dv; 2];
+                secant_columns(
+                    sys,
+                    t,
+                    y,
+                    f0,
+                    oscillators,
+                    vel,
+                    vel,
+                    steps,
+                    -1.0,
+                    tmp,
+                    acc,
+                    damping,
+                );
                 evals += 2;
             }
         }
@@ -380,24 +401,22 @@ impl EtdRk4 {
         for g in 0..self.part.relaxing_pairs.len() {
             let group = &self.part.relaxing_pairs[g];
             let n = group.pairs.len();
-            for col in 0..2 {
-                let d = group.steps[col];
-                self.tmp.copy_from_slice(y);
-                for p in &group.pairs {
-                    self.tmp[p[col]] += d;
-                }
-                sys.rhs(t, &self.tmp, &mut self.acc);
-                evals += 1;
-                for (p, block) in group
-                    .pairs
-                    .iter()
-                    .zip(&mut self.pair_blocks[first..first + n])
-                {
-                    for row in 0..2 {
-                        block[row][col] = (self.acc[p[row]] - f0[p[row]]) / d;
-                    }
-                }
-            }
+            let pair = |p: &[usize; 2]| *p;
+            secant_columns(
+                sys,
+                t,
+                y,
+                f0,
+                &group.pairs,
+                pair,
+                pair,
+                group.steps,
+                1.0,
+                &mut self.tmp,
+                &mut self.acc,
+                &mut self.pair_blocks[first..first + n],
+            );
+            evals += 2;
             for k in first..first + n {
                 let a = self.pair_blocks[k];
                 let (trace, det) = (a[0][0] + a[1][1], a[0][0] * a[1][1] - a[0][1] * a[1][0]);
