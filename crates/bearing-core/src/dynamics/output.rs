@@ -47,7 +47,8 @@ pub struct Summary {
     pub steady_window: [f64; 2],
     /// Mean inner-ring (shaft) speed over the window, rad/s.
     pub mean_shaft_speed: f64,
-    /// Mean cage angular speed, rad/s.
+    /// Mean cage spin speed over the window (each step's cubic through the speed and its
+    /// rate at both ends, integrated), rad/s.
     pub mean_cage_speed: f64,
     /// Pure-rolling (epicyclic) cage speed of the loaded balls at the mean shaft speed:
     /// rolling kinematics with outer-race control at `loaded_contact_angles`, rad/s.

@@ -1,7 +1,7 @@
 //! The run loop: the chosen method under the solver, output sampling, steady-window
 //! averages, progress and cancellation.
 
-use super::averages::Averages;
+use super::averages::{Averages, StepEnds};
 use super::error_scale::scales;
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
@@ -131,7 +131,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
     let tend = sv.duration;
     let mut rec = Recorder::new(m, &scene.outputs, sv.sample_rate, tend);
     let [w0, _] = steady_window(m.speed.2, tend);
-    let mut acc = Averages::new(m.z);
+    let mut acc = Averages::new(m.z, w0);
     let start = Instant::now();
     let mut last_report = Instant::now();
     rec.sample(
@@ -165,10 +165,18 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
             &|s, out| solver.refine_dense::<BearingSystem<'m>>(s, out),
         );
         let t_new = solver.t();
-        if t_new > w0 {
-            let wgt = t_new - last.t.max(w0);
-            acc.add(m, t_new, wgt, solver.y(), &sys.diag);
-        }
+        acc.add(
+            m,
+            &StepEnds {
+                t0: last.t,
+                t1: t_new,
+                y0: last.y0,
+                f0: last.f0,
+                y1: last.y1,
+                f1: last.f1,
+                diag: &sys.diag,
+            },
+        );
         if let Some(p) = progress.as_deref_mut() {
             if last_report.elapsed().as_millis() >= 10 {
                 last_report = Instant::now();
