@@ -114,9 +114,10 @@ impl Averages {
         }
     }
 
-    /// Add an accepted step; steps ending before the window are skipped.
+    /// Add an accepted step; steps ending before the window are skipped (one ending on
+    /// its start gives the first sample, with no weight).
     pub fn add(&mut self, m: &Model, s: &StepEnds) {
-        if s.t1 <= self.start {
+        if s.t1 < self.start {
             return;
         }
         let w = m.layout.cage + cage::W_X;
@@ -364,8 +365,8 @@ mod tests {
     /// steps of 0.3 and 1.7 ms in turn: the window's means are their exact ones. A rule
     /// that weights each step's end value by its length would read them high by the rate
     /// times half the sum of the squared steps over the window (0.075 N for the reaction),
-    /// the trapezoid the cage speed low by `c` times a sixth of the sum of the cubed steps
-    /// (4e-5 rad/s); what is left is rounding (speeds of ~500 rad/s, sums of 100 steps):
+    /// the trapezoid the cage speed high by `c` times a sixth of the sum of the cubed steps
+    /// over the window (4.1e-5 rad/s); what is left is rounding (speeds of ~500 rad/s, sums of 100 steps):
     /// 1e-9 rad/s and 1e-9 N are far above it and far below either rule's error.
     #[test]
     fn means_over_uneven_steps_are_second_order() {
@@ -415,6 +416,75 @@ mod tests {
         );
         let r = sum.mean_inner_ring_reaction[0];
         assert!((r - (p + q * mid)).abs() < 1e-9, "{r}");
+    }
+
+    /// The integral of the cubic `1 + 2t - 3t^2 + 0.5t^3` over a step of 0.4 from 1.2,
+    /// whole and from 0.37 and 0.9 of the way (and from before it, which clamps to the
+    /// whole step): the Hermite cubic through its ends is the cubic itself, so only
+    /// rounding is left (values of order 1: 1e-13).
+    #[test]
+    fn hermite_integral_is_exact_for_cubics() {
+        let v = |t: f64| 1.0 + 2.0 * t - 3.0 * t * t + 0.5 * t * t * t;
+        let d = |t: f64| 2.0 - 6.0 * t + 1.5 * t * t;
+        let prim = |t: f64| t + t * t - t * t * t + 0.125 * t * t * t * t;
+        let (t0, t1) = (1.2, 1.6);
+        for from in [t0, t0 + 0.37 * 0.4, t0 + 0.9 * 0.4, t0 - 1.0] {
+            let got = hermite_integral(t0, t1, [v(t0), d(t0)], [v(t1), d(t1)], from);
+            let want = prim(t1) - prim(from.max(t0));
+            assert!(
+                (got - want).abs() < 1e-13,
+                "from {from}: {got} against {want}"
+            );
+        }
+    }
+
+    /// A step ending on the window's start gives its first sample; over the next step,
+    /// ball 0 moves from azimuth bin 0 to bin 1 while its inner load rises from 10 to 30 N
+    /// (the other balls unloaded, each in its own bin). Each end weighs half the step in
+    /// its own bin: bin 0 reads 10 N (ball 0's start alone), bin 1 (ball 1 throughout,
+    /// ball 0's end) 30 N over three half-steps, 10 N, and ball 0 20 N. The end-value rule
+    /// read 0, 15 and 30 N. Exact in binary but for the divisions: 1e-12 N.
+    #[test]
+    fn each_end_of_a_step_weighs_in_its_own_bin() {
+        use crate::scene::{fault_case_scene, FaultCase};
+        let s = fault_case_scene("h7005c", FaultCase::None).unwrap();
+        let m = Model::new(&s.validated().unwrap());
+        let (start, h) = (0.3, 1e-5);
+        let bin = TAU / m.z as f64;
+        let n = m.layout.len;
+        let mut acc = Averages::new(m.z, start);
+        let mut diag = Diagnostics::new(m.z);
+        let zero = vec![0.0; n];
+        let mut ends = [vec![0.0; n], vec![0.0; n]];
+        for (k, y) in ends.iter_mut().enumerate() {
+            for j in 0..m.z {
+                y[m.layout.ball(j) + 2] = j as f64 * bin;
+            }
+            y[m.layout.ball(0) + 2] = k as f64 * bin;
+        }
+        for (k, t1) in [start, start + h].into_iter().enumerate() {
+            diag.inner_load[0] = [10.0, 30.0][k];
+            let y0 = if k == 0 { &zero } else { &ends[0] };
+            let step = StepEnds {
+                t0: t1 - h,
+                t1,
+                y0,
+                f0: &zero,
+                y1: &ends[k],
+                f1: &zero,
+                diag: &diag,
+            };
+            acc.add(&m, &step);
+        }
+        let sum = acc.finish(&m, [start, start + h], SolverStats::default());
+        let loads = [
+            sum.load_zone[0].inner_load,
+            sum.load_zone[1].inner_load,
+            sum.balls[0].inner_load,
+        ];
+        for (got, want) in loads.into_iter().zip([10.0, 10.0, 20.0]) {
+            assert!((got - want).abs() < 1e-12, "{loads:?}");
+        }
     }
 
     #[test]
