@@ -13,22 +13,11 @@ use super::output::{BallSummary, CageMotion, CageState, SolverStats, Summary};
 use super::rhs::Diagnostics;
 use crate::model::layout::cage;
 use crate::model::Model;
+use crate::ode::method::LastStep;
 use crate::physics::defect::rem_turn;
 use crate::physics::frames::angles;
 use crate::physics::kinematics::rolling_kinematics;
 use std::f64::consts::TAU;
-
-/// One accepted step, as the averages read it: start and end time (s), the state at both
-/// ends and its rate at both ends, and the model's diagnostics at the end.
-pub struct StepEnds<'a> {
-    pub t0: f64,
-    pub t1: f64,
-    pub y0: &'a [f64],
-    pub f0: &'a [f64],
-    pub y1: &'a [f64],
-    pub f1: &'a [f64],
-    pub diag: &'a Diagnostics,
-}
 
 /// Sums over the steady window.
 pub struct Averages {
@@ -116,29 +105,29 @@ impl Averages {
 
     /// Add an accepted step; steps ending before the window are skipped (one ending on
     /// its start gives the first sample, with no weight).
-    pub fn add(&mut self, m: &Model, s: &StepEnds) {
-        if s.t1 < self.start {
+    ///
+    /// `s` is the solver's last step and `t1` its end (the solver's time, which a step cut
+    /// to a point reaches exactly where `s.t + s.h` may not), `d` the diagnostics at its
+    /// end.
+    pub fn add(&mut self, m: &Model, s: &LastStep, t1: f64, d: &Diagnostics) {
+        let t0 = s.t;
+        if t1 < self.start {
             return;
         }
         let w = m.layout.cage + cage::W_X;
-        self.cage_turn += hermite_integral(
-            s.t0,
-            s.t1,
-            [s.y0[w], s.f0[w]],
-            [s.y1[w], s.f1[w]],
-            self.start,
-        );
+        self.cage_turn +=
+            hermite_integral(t0, t1, [s.y0[w], s.f0[w]], [s.y1[w], s.f1[w]], self.start);
         std::mem::swap(&mut self.latest, &mut self.previous);
-        let phi = self.latest.read(m, s.t1, s.y1, s.diag);
+        let phi = self.latest.read(m, t1, s.y1, d);
         self.orbit.turn_to(phi, self.latest.eccentricity);
         if self.have_previous {
-            let w = 0.5 * (s.t1 - s.t0);
+            let w = 0.5 * (t1 - t0);
             self.weigh(true, w);
             self.weigh(false, w);
         } else {
             // no sample at the window's start: its part of the step takes the end's
             // value, a first-order error over one step of the whole window
-            self.weigh(false, s.t1 - self.start);
+            self.weigh(false, t1 - self.start);
         }
         self.have_previous = true;
     }
@@ -395,16 +384,15 @@ mod tests {
         for ts in times.windows(2) {
             let ((y0, f0), (y1, f1)) = (state(ts[0]), state(ts[1]));
             diag.inner_reaction = [p + q * ts[1], 0.0, 0.0];
-            let ends = StepEnds {
-                t0: ts[0],
-                t1: ts[1],
+            let step = LastStep {
+                t: ts[0],
+                h: ts[1] - ts[0],
                 y0: &y0,
                 f0: &f0,
                 y1: &y1,
                 f1: &f1,
-                diag: &diag,
             };
-            acc.add(&m, &ends);
+            acc.add(&m, &step, ts[1], &diag);
         }
         let sum = acc.finish(&m, [start, end], SolverStats::default());
         let mid = 0.5 * (start + end);
@@ -465,16 +453,15 @@ mod tests {
         for (k, t1) in [start, start + h].into_iter().enumerate() {
             diag.inner_load[0] = [10.0, 30.0][k];
             let y0 = if k == 0 { &zero } else { &ends[0] };
-            let step = StepEnds {
-                t0: t1 - h,
-                t1,
+            let step = LastStep {
+                t: t1 - h,
+                h,
                 y0,
                 f0: &zero,
                 y1: &ends[k],
                 f1: &zero,
-                diag: &diag,
             };
-            acc.add(&m, &step);
+            acc.add(&m, &step, t1, &diag);
         }
         let sum = acc.finish(&m, [start, start + h], SolverStats::default());
         let loads = [

@@ -1,7 +1,7 @@
 //! The run loop: the chosen method under the solver, output sampling, steady-window
 //! averages, progress and cancellation.
 
-use super::averages::{Averages, StepEnds};
+use super::averages::Averages;
 use super::error_scale::scales;
 use super::output::{SimResult, SolverStats};
 use super::recorder::Recorder;
@@ -165,18 +165,7 @@ fn drive<'m, M: for<'s> Method<BearingSystem<'s>>>(
             &|s, out| solver.refine_dense::<BearingSystem<'m>>(s, out),
         );
         let t_new = solver.t();
-        acc.add(
-            m,
-            &StepEnds {
-                t0: last.t,
-                t1: t_new,
-                y0: last.y0,
-                f0: last.f0,
-                y1: last.y1,
-                f1: last.f1,
-                diag: &sys.diag,
-            },
-        );
+        acc.add(m, &last, t_new, &sys.diag);
         if let Some(p) = progress.as_deref_mut() {
             if last_report.elapsed().as_millis() >= 10 {
                 last_report = Instant::now();
