@@ -34,10 +34,11 @@ pub struct Averages {
     /// Per azimuth bin (centred on the ball positions at t = 0).
     zone: ContactSums,
     orbit: CageOrbit,
-    /// The latest step's end and the one before it, when that was inside the window.
+    /// The latest step's end, once a step reached the window, and the weight (s) it has
+    /// so far: its step's half, added with the next step's half when that comes (so each
+    /// sample is summed once).
     latest: Sample,
-    previous: Sample,
-    have_previous: bool,
+    pending: Option<f64>,
 }
 
 /// What the averages read of one state: its values at one instant.
@@ -99,8 +100,7 @@ impl Averages {
             zone: ContactSums::new(z),
             orbit: CageOrbit::default(),
             latest: Sample::new(z),
-            previous: Sample::new(z),
-            have_previous: false,
+            pending: None,
         }
     }
 
@@ -120,28 +120,23 @@ impl Averages {
             let from = ((self.start - t0) / h).clamp(0.0, 1.0);
             self.cage_turn += hermite_integral(s.y0[w], s.f0[w], s.y1[w], s.f1[w], h, from);
         }
-        std::mem::swap(&mut self.latest, &mut self.previous);
-        let phi = self.latest.read(m, t1, s.y1, d);
-        self.orbit.turn_to(phi, self.latest.eccentricity);
-        if self.have_previous {
-            let w = 0.5 * (t1 - t0);
-            self.weigh(true, w);
-            self.weigh(false, w);
-        } else {
+        self.pending = Some(match self.pending {
+            // the step's start is the latest sample: half the step to each end
+            Some(left) => {
+                self.weigh(left + 0.5 * h);
+                0.5 * h
+            }
             // no sample at the window's start: its part of the step takes the end's
             // value, a first-order error over one step of the whole window
-            self.weigh(false, t1 - self.start);
-        }
-        self.have_previous = true;
+            None => t1 - self.start,
+        });
+        let phi = self.latest.read(m, t1, s.y1, d);
+        self.orbit.turn_to(phi, self.latest.eccentricity);
     }
 
-    /// Add one sample (the latest step's end, or the one before) with weight `w`, s.
-    fn weigh(&mut self, previous: bool, w: f64) {
-        let s = if previous {
-            &self.previous
-        } else {
-            &self.latest
-        };
+    /// Add the latest sample with weight `w`, s.
+    fn weigh(&mut self, w: f64) {
+        let s = &self.latest;
         self.time += w;
         self.shaft += w * s.shaft;
         for k in 0..3 {
@@ -154,7 +149,10 @@ impl Averages {
         }
     }
 
-    pub fn finish(self, m: &Model, window: [f64; 2], stats: SolverStats) -> Summary {
+    pub fn finish(mut self, m: &Model, window: [f64; 2], stats: SolverStats) -> Summary {
+        if let Some(w) = self.pending.take() {
+            self.weigh(w);
+        }
         let tt = self.time.max(f64::MIN_POSITIVE);
         let shaft = self.shaft / tt;
         let cage = self.cage_turn / tt;
