@@ -1,0 +1,130 @@
+"""ETDRK4 on a single contact mode near the alias bound (omega h = pi), independent of the engine.
+
+Two checks behind docs/lab/benchmarks.md, "The cage speed's offset follows the step at
+the contacts' alias bound" (issue 34):
+
+1. A damped mode whose damping is left to the explicit remainder, as `linear_part` leaves
+   the contact damping (ratio 0.0707 on a ball's stiff mode, 58 kHz): ETDRK4 takes the
+   undamped oscillator exactly and integrates `-c v` through its stages. Printed: the
+   numerical decay rate per unit time against the exact `zeta omega`, by `omega h`.
+2. A quadratic oscillator `x'' = -omega^2 x - beta x^2` (the Hertz law's leading
+   nonlinearity about a loaded contact) under the same splitting: the linear oscillator
+   exact, `-beta x^2` in the remainder, which rings at twice the mode's frequency and at
+   zero frequency. Printed: the error of the long-run mean of `x` (the mode's rectified
+   offset, which carries the mean contact force) against a tight `solve_ivp` reference,
+   by `omega h`.
+
+The formulas are Cox and Matthews' ETDRK4 in the remainder form the engine states in
+`ode::etd_rk4` (`f(u) = L (u - u_n) + N(u)`), and beside it Krogstad's (the same final
+weights; inner stages `b = u + h/2 phi_1(hL/2) N_n + h phi_2(hL/2) (N_a - N_n)` and
+`c = u + h phi_1(hL) N_n + 2h phi_2(hL) (N_b - N_n)`), written out here with dense matrix
+exponentials; nothing is shared with the Rust code.
+
+Needs numpy and scipy: `python3 scripts/research/etd_resonance.py`.
+"""
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.linalg import expm
+
+
+def phi_functions(m):
+    """e^M, phi_1(M), phi_2(M), phi_3(M) of a square matrix, from one augmented exponential."""
+    n = m.shape[0]
+    eye = np.eye(n)
+    aug = np.zeros((4 * n, 4 * n))
+    aug[:n, :n] = m
+    aug[:n, n : 2 * n] = eye
+    aug[n : 2 * n, 2 * n : 3 * n] = eye
+    aug[2 * n : 3 * n, 3 * n :] = eye
+    e = expm(aug)
+    return e[:n, :n], e[:n, n : 2 * n], e[:n, 2 * n : 3 * n], e[:n, 3 * n :]
+
+
+class Etdrk4:
+    """ETDRK4 around the constant linear part `lin` for `u' = lin u + g(u)`, with Cox and
+    Matthews' inner stages or Krogstad's."""
+
+    def __init__(self, lin, h, krogstad=False):
+        self.lin, self.h, self.krogstad = lin, h, krogstad
+        _, p1, p2, p3 = phi_functions(h * lin)
+        self.p1, self.p2 = p1, p2
+        self.e_half, self.p1_half, self.p2_half, _ = phi_functions(0.5 * h * lin)
+        self.f1 = p1 - 3 * p2 + 4 * p3
+        self.f2 = p2 - 2 * p3
+        self.f3 = 4 * p3 - p2
+
+    def step(self, u, g):
+        h, lin = self.h, self.lin
+
+        def rem(v):  # N(v) = f(v) - L (v - u)
+            return lin @ u + g(v)
+
+        n0 = rem(u)
+        a = u + 0.5 * h * self.p1_half @ n0
+        na = rem(a)
+        if self.krogstad:
+            b = u + 0.5 * h * self.p1_half @ n0 + h * self.p2_half @ (na - n0)
+            nb = rem(b)
+            c = u + h * self.p1 @ n0 + 2 * h * self.p2 @ (nb - n0)
+        else:
+            b = u + 0.5 * h * self.p1_half @ na
+            nb = rem(b)
+            c = u + self.e_half @ (a - u) + 0.5 * h * self.p1_half @ (2 * nb - n0)
+        nc = rem(c)
+        return u + h * (self.f1 @ n0 + 2 * self.f2 @ (na + nb) + self.f3 @ nc)
+
+
+def damping_in_the_remainder():
+    omega = 2 * np.pi * 58e3  # rad/s, a loaded ball's stiff contact mode (benchmarks.md)
+    zeta = 0.0707  # its measured damping ratio: 0.05 on each of two contacts in line
+    c = 2 * zeta * omega
+    lin = np.array([[0.0, 1.0], [-omega * omega, 0.0]])
+    damping = np.array([[0.0, 0.0], [0.0, -c]])
+    print("1. damping left to the remainder: decay rate against the exact zeta omega "
+          "(Cox-Matthews, Krogstad)")
+    for wh in [0.47, 0.6, 0.7, 0.8, 0.87, 0.9, 0.95, 0.98]:
+        h = wh * np.pi / omega
+        rates = []
+        for krogstad in (False, True):
+            m = Etdrk4(lin, h, krogstad)
+            # the step is linear in u: its matrix from the two unit vectors
+            step = np.column_stack([m.step(col, lambda v: damping @ v) for col in np.eye(2)])
+            rates.append(-np.log(np.abs(np.linalg.eigvals(step)).max()) / h / (zeta * omega))
+        print(f"   omega h = {wh:.2f} pi ({h * 1e6:.2f} us): {rates[0]:.4f}, {rates[1]:.4f} of it")
+
+
+def quadratic_oscillator():
+    omega, beta, amp = 1.0, 0.3, 0.3
+    lin = np.array([[0.0, 1.0], [-omega * omega, 0.0]])
+
+    def g(v):
+        return np.array([0.0, -beta * v[0] ** 2])
+
+    periods = 400
+    t_end = periods * 2 * np.pi / omega
+    u0 = np.array([amp, 0.0])
+    ref = solve_ivp(lambda t, u: lin @ u + g(u), (0, t_end), u0, rtol=1e-11, atol=1e-13,
+                    dense_output=True)
+    ts = np.linspace(0, t_end, 400_001)
+    exact = np.trapezoid(ref.sol(ts)[0], ts) / t_end
+    print(f"2. quadratic oscillator, beta x / omega^2 = {beta * amp:.2f}, {periods} periods: "
+          f"mean x {exact:.6e} (reference)")
+    print("   error of the mean against it (Cox-Matthews, Krogstad)")
+    for wh in [0.1, 0.2, 0.4, 0.6, 0.7, 0.8, 0.87, 0.9, 0.95, 0.99, 1.0, 1.01, 1.05, 1.1]:
+        h = wh * np.pi / omega
+        errors = []
+        for krogstad in (False, True):
+            m = Etdrk4(lin, h, krogstad)
+            u, total = u0.copy(), 0.0
+            for _ in range(int(round(t_end / h))):
+                nxt = m.step(u, g)
+                total += 0.5 * (u[0] + nxt[0])  # trapezoid: the samples' phases spread evenly
+                u = nxt
+            errors.append((total / round(t_end / h) - exact) / abs(exact))
+        print(f"   omega h = {wh:.2f} pi: {errors[0]:+.2e}, {errors[1]:+.2e}")
+
+
+if __name__ == "__main__":
+    damping_in_the_remainder()
+    quadratic_oscillator()
