@@ -9,7 +9,6 @@ use crate::ode::block_jacobian::{difference_step, BlockJacobian};
 use crate::ode::etd_rk4::{LinearPart, Oscillator, RelaxingGroup, RelaxingPairs};
 use crate::ode::problem::{JacobianSystem, OdeSystem};
 use crate::ode::rosenbrock_tableau::ROS34PRW_EXPLICIT_STABILITY;
-use crate::physics::frames::{azimuths, Azimuth};
 use std::ops::Range;
 
 /// Which part of the bearing's Jacobian a linearly implicit method gets.
@@ -383,19 +382,7 @@ pub fn linear_part(m: &Model) -> LinearPart {
         slowest: 1e3,
         max_age: 80,
         alias_limit: std::f64::consts::PI,
-        sin_cos4: lanes_sin_cos,
     }
-}
-
-/// [`LinearPart::sin_cos4`] in the lanes ([`azimuths`]; within 2 ulp of libm's).
-fn lanes_sin_cos(angles: [f64; 4]) -> ([f64; 4], [f64; 4]) {
-    let mut az = [Azimuth::default(); 4];
-    azimuths(&angles, &mut az);
-    let (mut sin, mut cos) = ([0.0; 4], [0.0; 4]);
-    for k in 0..4 {
-        (sin[k], cos[k]) = (az[k].sin, az[k].cos);
-    }
-    (sin, cos)
 }
 
 /// Every body's slots, one range each: each ball's, the inner ring's, the outer ring's and

@@ -69,6 +69,51 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
+/// `1 / n!` for n = 0..29, for [`phis_imaginary`]'s longer series.
+const INV_FACTORIAL_30: [f64; 30] = {
+    let mut t = [1.0; 30];
+    let mut n = 1;
+    while n < 30 {
+        t[n] = t[n - 1] / n as f64;
+        n += 1;
+    }
+    t
+};
+
+/// How far [`phis_imaginary`] sums its series, `|y|`: past `pi`, where the stepper's alias
+/// bound keeps every mode's `omega tau` (`LinearPart::alias_limit`).
+const SERIES_REACH: f64 = 3.2;
+
+/// `phi_1`, `phi_2`, `phi_3` at `z = i y` (an undamped mode's), as `(re, im)` pairs, for
+/// the dense output at every sample and mode. Up to `|y|` = [`SERIES_REACH`] `phi_3`'s
+/// even and odd terms as two real series in `y^2`, to `y^24 / 27!` and `y^25 / 28!` (at
+/// `|y|` = 3.2 the first terms left out are below 2e-17 of each part, and the terms'
+/// magnitudes sum to at most 2.8 times the part: no cancellation to speak of), then
+/// `phi_k = 1/k! + i y phi_{k+1}`: no sine or cosine, no division, no branch in the
+/// bearing's use. Beyond, `phi_{k+1} = (phi_k - 1/k!) / (i y)` from the library's
+/// `sin_cos`.
+#[inline]
+pub(super) fn phis_imaginary(y: f64) -> [(f64, f64); 3] {
+    if y.abs() <= SERIES_REACH {
+        let y2 = y * y;
+        let (mut re, mut im) = (0.0, 0.0);
+        for k in (0..13).rev() {
+            re = re * -y2 + INV_FACTORIAL_30[2 * k + 3];
+            im = im * -y2 + INV_FACTORIAL_30[2 * k + 4];
+        }
+        let p3 = (re, y * im);
+        let p2 = (0.5 - y * p3.1, y * p3.0);
+        let p1 = (1.0 - y * p2.1, y * p2.0);
+        return [p1, p2, p3];
+    }
+    let (sn, cs) = y.sin_cos();
+    let r = 1.0 / y;
+    let p1 = (sn * r, (1.0 - cs) * r);
+    let p2 = (p1.1 * r, (1.0 - p1.0) * r);
+    let p3 = (p2.1 * r, (0.5 - p2.0) * r);
+    [p1, p2, p3]
+}
+
 /// [`phis`] on the real axis, as the relaxing components' and the overdamped modes'
 /// operators take it: the same real parts to the bit (with `y` = 0 every complex product's
 /// imaginary terms are zeros, and subtracting a zero from a real part leaves it as it is),
@@ -134,7 +179,9 @@ fn step_forms(half: &[(f64, f64); 4], full: &[(f64, f64); 4]) -> [(f64, f64); OP
 /// difference while `|s|` >= 1e-3 (it loses `eps |g| / (|s| |D|)`, up to ~1e-10 of the
 /// operator where it is small beside the `phi`'s); nearer critical, by
 /// `F(s^2) = 2 F(0) - F(-s^2) + O(s^4)`, the complex step at `i |s|` reflected about the
-/// critical value.
+/// critical value. (One form at a time, for the tests: the stepper builds its operators
+/// together.)
+#[cfg(test)]
 pub(super) fn damped_operator(w: f64, c: f64, tau: f64, form: [f64; 4]) -> ModeOperator {
     block_operators(mode_matrix(w, c), tau, [form])[0]
 }
@@ -241,6 +288,20 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     ops
 }
 
+/// The dense output's three operators on a damped mode at `tau = theta h` inside a step of
+/// `h`: `phi_1(tau L)`, `theta phi_2(tau L)` and `2 theta^2 phi_3(tau L)`, the weights of
+/// the remainder's quadratic's three coefficients in the step's continuous extension
+/// ([`super::etd_rk4::EtdRk4`]'s `refine_dense`, which takes an undamped mode's from
+/// [`phis_imaginary`] directly).
+pub(super) fn dense_operators(w: f64, c: f64, tau: f64, theta: f64) -> [ModeOperator; 3] {
+    let forms = [
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, theta, 0.0],
+        [0.0, 0.0, 0.0, 2.0 * theta * theta],
+    ];
+    block_operators(mode_matrix(w, c), tau, forms)
+}
+
 /// The five operators of a step of `h` under the real 2x2 block `a` (1/s): a pair of
 /// components relaxing together, or a damped mode ([`mode_operators`]).
 pub(super) fn block_step_operators(a: [[f64; 2]; 2], h: f64) -> [ModeOperator; OPS] {
@@ -266,6 +327,133 @@ pub(super) fn relax_operators(rate: f64, h: f64) -> [f64; OPS] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`phis_imaginary`] against 40-digit values (mpmath, `(e^z - 1 - ...) / z^k`) inside
+    /// its series' reach and beyond: within 3e-15 of `|phi_k|`; and against [`phis`] on the
+    /// imaginary axis within 1e-14 (whose recurrence loses about a digit just above `|y|` =
+    /// 1/2: 1.9-2.6e-15 of `|phi_3|` off at y = -0.5566).
+    #[test]
+    fn imaginary_axis_phis_match_exact_values_and_the_complex_ones() {
+        let exact: [(f64, [(f64, f64); 3]); 6] = [
+            (
+                0.25,
+                [
+                    (0.989_615_837_018_091_7, 0.124_350_313_157_420_86),
+                    (0.497_401_252_629_683_45, 0.041_536_651_927_633_126),
+                    (0.166_146_607_710_532_5, 0.010_394_989_481_266_185),
+                ],
+            ),
+            (
+                -0.5566,
+                [
+                    (0.949_160_017_679_220_4, -0.271_188_926_559_645_47),
+                    (0.487_224_086_524_695_4, -0.091_340_248_510_204_04),
+                    (0.164_103_931_926_345_75, -0.022_953_491_691_168_864),
+                ],
+            ),
+            (
+                0.5,
+                [
+                    (0.958_851_077_208_406, 0.244_834_876_219_254_57),
+                    (0.489_669_752_438_509_14, 0.082_297_845_583_188),
+                    (0.164_595_691_166_376, 0.020_660_495_122_981_73),
+                ],
+            ),
+            (
+                2.5,
+                [
+                    (0.239_388_857_641_582_6, 0.720_457_446_218_773_5),
+                    (0.288_182_978_487_509_4, 0.304_244_456_943_366_96),
+                    (0.121_697_782_777_346_78, 0.084_726_808_604_996_24),
+                ],
+            ),
+            (
+                3.2,
+                [
+                    (-0.018_241_919_821_118_722, 0.624_467_117_435_860_3),
+                    (0.195_145_974_198_706_36, 0.318_200_599_944_099_6),
+                    (0.099_437_687_482_531_13, 0.095_266_883_062_904_26),
+                ],
+            ),
+            (
+                3.5,
+                [
+                    (-0.100_223_779_339_891_39, 0.553_273_339_225_941_8),
+                    (0.158_078_096_921_697_66, 0.314_349_651_239_968_97),
+                    (0.089_814_186_068_562_56, 0.097_691_972_308_086_38),
+                ],
+            ),
+        ];
+        let off = |a: (f64, f64), b: (f64, f64)| {
+            (a.0 - b.0).abs().max((a.1 - b.1).abs()) / b.0.hypot(b.1)
+        };
+        for (y, want) in exact {
+            for (a, b) in phis_imaginary(y).iter().zip(want) {
+                assert!(off(*a, b) <= 3e-15, "{y}: {a:?} against {b:?}");
+            }
+        }
+        for k in -3_000..3_000 {
+            let y = k as f64 * 1.2e-3 + 1e-9 * (k as f64).sin();
+            let own = phis_imaginary(y);
+            for (a, b) in own.iter().zip(&phis(0.0, y)[1..]) {
+                assert!(off(*a, *b) <= 1e-14, "{y}: {a:?} against {b:?}");
+            }
+        }
+    }
+
+    /// The dense output's operators at `theta = 1` recombine into the step's own weights
+    /// (`F1 = g0 - 3 g1 + 2 g2`, `4 F2 = 4 g1 - 4 g2`, `F3 = 2 g2 - g1` on `N_n`, the
+    /// middle and `N(c)`), so the interpolant ends at the step's end; on undamped,
+    /// underdamped and overdamped modes, and the undamped form (from the sine and cosine)
+    /// equals the general one. Tolerance: a few rounding errors of operators of size ~1 at
+    /// `omega h` up to 3 (the recurrence loses about a digit, 1e-15 becomes ~1e-14).
+    #[test]
+    fn dense_operators_end_at_the_step_weights() {
+        let close = |a: ModeOperator, b: ModeOperator, scale: [f64; 4], what: &str| {
+            for k in 0..4 {
+                assert!(
+                    (a[k] - b[k]).abs() <= 1e-13 * scale[k],
+                    "{what}: {a:?} against {b:?}"
+                );
+            }
+        };
+        for (w, c, h) in [
+            (300.0_f64, 0.0, 0.01),
+            (300.0, 40.0, 0.01),
+            (30.0, 200.0, 0.02),
+        ] {
+            let scale = [1.0, 1.0 / w, w, 1.0];
+            let [g0, g1, g2] = dense_operators(w, c, h, 1.0);
+            let ops = mode_operators(w, c, h);
+            let mix = |a: f64, b: f64, d: f64| -> ModeOperator {
+                std::array::from_fn(|k| a * g0[k] + b * g1[k] + d * g2[k])
+            };
+            let what = format!("w {w}, c {c}");
+            close(mix(1.0, -3.0, 2.0), ops[F1], scale, &what);
+            close(mix(0.0, 1.0, -1.0), ops[F2], scale, &what);
+            close(mix(0.0, -1.0, 2.0), ops[F3], scale, &what);
+            if c == 0.0 {
+                for theta in [0.1, 0.5, 0.9] {
+                    let tau = theta * h;
+                    let p = phis_imaginary(w * tau);
+                    let factors = [1.0, theta, 2.0 * theta * theta];
+                    let own: [ModeOperator; 3] = std::array::from_fn(|k| {
+                        let (a, b) = (factors[k] * p[k].0, factors[k] * p[k].1);
+                        [a, b / w, -(w * b), a]
+                    });
+                    let forms = [
+                        [0.0, 1.0, 0.0, 0.0],
+                        [0.0, 0.0, theta, 0.0],
+                        [0.0, 0.0, 0.0, 2.0 * theta * theta],
+                    ];
+                    let general = block_operators(mode_matrix(w, 0.0), tau, forms);
+                    for (a, b) in own.iter().zip(general) {
+                        close(*a, b, scale, &format!("{what}, theta {theta}"));
+                    }
+                }
+            }
+        }
+    }
 
     /// The real-axis `phi`s are the complex ones' real parts to the bit, across both forms
     /// (series and recurrence), their meeting at 1/2, both zeros, and the rates' far end.
