@@ -22,9 +22,10 @@ weights; inner stages `b = u + h/2 phi_1(hL/2) N_n + h phi_2(hL/2) (N_a - N_n)` 
 exponentials; nothing is shared with the Rust code.
 
 3. The dense output inside one step of a damped mode forced at twice its frequency and at
-   zero frequency (the remainder's content under 2.): the engine's interpolant (`refine_dense`
-   and `damped_dense` of `ode::etd_rk4`: `v = e^{-sigma L} (y - y*)` by a cubic Hermite
-   from the step's ends, then rotated forward), with the damping in `L` or in the
+   zero frequency (the remainder's content under 2.): the engine's interpolant until
+   2026-12-01 (`refine_dense` of `ode::etd_rk4`: `v = e^{-sigma L} (y - y*)` by a cubic
+   Hermite from the step's ends, then rotated forward; it now takes the step's continuous
+   extension through the stages instead), with the damping in `L` or in the
    remainder, against a quintic that also takes `v` and `v'` at the middle of the step
    (from the exact solution there: the best a midpoint could give). Printed: the largest
    velocity error over the step, against the mode's velocity amplitude.
