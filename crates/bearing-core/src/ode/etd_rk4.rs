@@ -641,20 +641,16 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
     }
     /// Each oscillator's modes by the step's continuous extension: the variation-of-constants
     /// formula the step itself integrates, with the remainder's quadratic through the
-    /// stages (`N_n`, the mean of `N(a)` and `N(b)` at the middle, `N(c)` at the end),
+    /// stages (`N_n`, the mean `M` of `N(a)` and `N(b)` at the middle, `N(c)` at the end),
     /// stopped at `tau = s h`:
     /// `u(tau) = u_n + tau [phi_1 P_0 + s phi_2 P_1 + 2 s^2 phi_3 P_2]` at `tau L`, with
-    /// `P_0 = N_n`, `P_1 = -3 N_n + 4 M - N(c)`, `P_2 = 2 N_n - 4 M + 2 N(c)`. At `s = 1`
-    /// it is the step's own end. The linear part rings exactly, and the remainder's
-    /// variation inside the step (the contacts' response at twice a mode's frequency) is
-    /// taken from the middle of the step as well as from its ends. The interpolant this
-    /// replaced (a cubic through the step's ends in `e^{-sigma L} (y - y*)`) missed such a
-    /// forcing by 9 % of the mode's velocity amplitude at `omega h` = 0.5 pi and 34-62 % at
-    /// 0.7-1 pi even with exact ends (`scripts/research/etd_resonance.py`, part 3), and on
-    /// the Table-1 case read the 20-35 kHz band 0.44 % above the local solution from each
-    /// step's start, where this one reads every band within 0.02 %
-    /// (docs/lab/benchmarks.md). A mode left to the remainder keeps the plain interpolant,
-    /// and so does a step whose stages this stepper no longer holds.
+    /// `P_0 = N_n`, `P_1 = -3 N_n + 4 M - N(c)`, `P_2 = 2 N_n - 4 M + 2 N(c)`; at `s = 1`
+    /// the step's own end. The linear part rings exactly, and the remainder's variation
+    /// inside the step (the contacts' response at twice a mode's frequency) is read at the
+    /// middle of the step as well as at its ends, which a cubic through the ends cannot do
+    /// (docs/lab/benchmarks.md, "The dense output through the stages"). A mode left to the
+    /// remainder keeps the plain interpolant, and so does a step whose stages this stepper
+    /// no longer holds.
     fn refine_dense(&self, step: &LastStep<'_>, s: f64, out: &mut [f64]) -> bool {
         let LastStep { t, h, y0, .. } = *step;
         // the stages are the last attempt's, and the solver samples the step it accepted
@@ -699,9 +695,9 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
                 let (dq, du) = if damping == 0.0 {
                     // g(tau L) = [[A, B / w], [-w B, A]] for g(i w tau) = A + i B
                     let [p1, p2, p3] = phis_imaginary(w * tau);
-                    let (f1, f2) = (s, 2.0 * s * s);
-                    let a = [p1.0, f1 * p2.0, f2 * p3.0];
-                    let b = [p1.1, f1 * p2.1, f2 * p3.1];
+                    let (by2, by3) = (s, 2.0 * s * s);
+                    let a = [p1.0, by2 * p2.0, by3 * p3.0];
+                    let b = [p1.1, by2 * p2.1, by3 * p3.1];
                     let (mut bq, mut au) = (0.0, 0.0);
                     for k in 0..3 {
                         bq += b[k] * pu[k][i];
@@ -1330,30 +1326,103 @@ mod tests {
         }
     }
 
-    /// On the nonlinear forced oscillator, inside one step of `omega h` = 1.5 and of half
-    /// that, against fine steps from the same start: the method's interpolant far better
-    /// than the state's Hermite interpolant, and converging at least as fast as a fourth-
-    /// order one (16 per halving; measured 49, above 10 asked).
+    /// On the nonlinear forced oscillator, undamped and with both modes' damping taken
+    /// (a remainder that varies inside the step), inside one step of `omega h` = 1.5 and of
+    /// half that, against fine steps from the same start: the method's interpolant far
+    /// better than the state's Hermite interpolant (a tenth of its error asked), and
+    /// converging at least as fast as a fourth-order one (16 per halving asked).
     #[test]
     fn dense_output_converges_on_a_nonlinear_oscillator() {
-        let sys = nonlinear();
         let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
         let s = 0.5;
-        let errors = |h: f64| {
-            let (out, plain) = interpolants(sys, y0, h, s);
-            let fine = fixed(sys, &mut stepper(1), y0, s * h / 200.0, s * h);
-            let err = |v: &[f64]| (0..2).map(|k| (v[k] - fine[k]).abs()).fold(0.0, f64::max);
-            (err(&out), err(&plain))
+        let damped_nonlinear = Coupled {
+            damp: [1.5, 10.0],
+            ..nonlinear()
         };
-        // measured at mid-step: omega h = 1.5, 2.9e-6 against the plain 9.5e-5; 0.75,
-        // 5.9e-8 (the step ends 4.8e-6 and 1.1e-7 off; the interpolant from the step's
-        // ends alone read 9.9e-6 and 2.7e-7). At omega h = 3 the step's own error (1.1e-4
-        // at its end: this cubic term's third harmonic is beyond what the stages sample)
-        // bounds both interpolants (4.4e-5 and 2.9e-4).
-        let (e1, p1) = errors(0.015);
-        let (e2, _) = errors(0.0075);
-        assert!(e1 < 0.2 * p1, "refined {e1}, plain Hermite {p1}");
-        assert!(e1 / e2 > 10.0, "refined {e1} at h, {e2} at h/2");
+        for (sys, lin, what) in [
+            (nonlinear(), part(1), "undamped"),
+            (damped_nonlinear, damped_part(), "damped"),
+        ] {
+            let errors = |h: f64| {
+                let (out, plain) = interpolants_of(stepper_of(lin.clone()), sys, y0, h, s);
+                let fine = fixed(sys, &mut stepper(1), y0, s * h / 200.0, s * h);
+                let err = |v: &[f64]| (0..2).map(|k| (v[k] - fine[k]).abs()).fold(0.0, f64::max);
+                (err(&out), err(&plain))
+            };
+            // measured at mid-step, undamped: omega h = 1.5, 2.9e-6 against the plain
+            // 9.5e-5; 0.75, 5.9e-8, 49 times less (damped: 2.6e-6, 9.2e-5, 47 times less;
+            // undamped, the step ends 4.8e-6 and 1.1e-7 off;
+            // the interpolant from the step's ends alone read 9.9e-6 and 2.7e-7). At omega
+            // h = 3 the step's own error (1.1e-4 at its end: this cubic term's third
+            // harmonic is beyond what the stages sample) sets the scale: 4.4e-5 at mid-step,
+            // the plain Hermite 2.9e-4.
+            let (e1, p1) = errors(0.015);
+            let (e2, _) = errors(0.0075);
+            assert!(e1 < 0.1 * p1, "{what}: refined {e1}, plain Hermite {p1}");
+            assert!(e1 / e2 > 16.0, "{what}: refined {e1} at h, {e2} at h/2");
+        }
+    }
+
+    /// At `s = 1` the dense output is the step's own end, undamped and damped, under a
+    /// remainder that varies inside the step: the extension's weights recombine into the
+    /// step's, so the two differ by rounding (~1e-16 of positions ~1e-2 m and velocities ~1
+    /// m/s; 1e-13 asked).
+    #[test]
+    fn dense_output_ends_at_the_step_end() {
+        let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
+        let damped_nonlinear = Coupled {
+            damp: [1.5, 10.0],
+            ..nonlinear()
+        };
+        for (sys, lin) in [(nonlinear(), part(1)), (damped_nonlinear, damped_part())] {
+            // the plain Hermite interpolant at s = 1 is the step's end itself
+            let (out, end) = interpolants_of(stepper_of(lin), sys, y0, 0.015, 1.0);
+            for k in 0..4 {
+                assert!(
+                    (out[k] - end[k]).abs() < 1e-13,
+                    "{k}: {out:?} against {end:?}"
+                );
+            }
+        }
+    }
+
+    /// A step whose stages a later attempt has overwritten keeps the plain interpolant:
+    /// the dense output declines it, and takes the step it holds.
+    #[test]
+    fn dense_output_declines_a_step_it_no_longer_holds() {
+        let mut sys = nonlinear();
+        let mut m = stepper(1);
+        let h = 0.015;
+        let y0 = [0.01, -0.02, 0.3, 0.1, 0.0];
+        let mut f0 = [0.0; 5];
+        sys.rhs(0.0, &y0, &mut f0);
+        let stats = &mut StepStats::default();
+        m.attempt(&mut sys, 0.0, &y0, &f0, h, h, stats);
+        let y1 = Method::<Coupled>::y_new(&m).to_vec();
+        let f1 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
+        m.attempt(&mut sys, h, &y1, &f1, h, 2.0 * h, stats);
+        let y2 = Method::<Coupled>::y_new(&m).to_vec();
+        let f2 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
+        let mut out = y1.clone();
+        let first = LastStep {
+            t: 0.0,
+            h,
+            y0: &y0,
+            f0: &f0,
+            y1: &y1,
+            f1: &f1,
+        };
+        assert!(!Method::<Coupled>::refine_dense(&m, &first, 0.5, &mut out));
+        assert_eq!(out, y1, "left as it was");
+        let second = LastStep {
+            t: h,
+            h,
+            y0: &y1,
+            f0: &f1,
+            y1: &y2,
+            f1: &f2,
+        };
+        assert!(Method::<Coupled>::refine_dense(&m, &second, 0.5, &mut out));
     }
 
     /// Under the solver every accepted step keeps `omega h` within the alias bound of the

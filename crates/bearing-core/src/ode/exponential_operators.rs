@@ -18,11 +18,11 @@ pub(super) const WITHOUT_L: [f64; OPS] = [1.0, 1.0, 1.0 / 6.0, 1.0 / 6.0, 1.0 / 
 /// `g(i w tau) = A + i B`, it is `[[A, B / w], [-w B, A]]`.
 pub(super) type ModeOperator = [f64; 4];
 
-/// `1 / n!` for n = 0..15.
-const INV_FACTORIAL: [f64; 16] = {
-    let mut t = [1.0; 16];
+/// `1 / n!` for n = 0..29 ([`phis_imaginary`]'s series reach 29!).
+const INV_FACTORIAL: [f64; 30] = {
+    let mut t = [1.0; 30];
     let mut n = 1;
-    while n < 16 {
+    while n < 30 {
         t[n] = t[n - 1] / n as f64;
         n += 1;
     }
@@ -69,17 +69,6 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
-/// `1 / n!` for n = 0..29, for [`phis_imaginary`]'s longer series.
-const INV_FACTORIAL_30: [f64; 30] = {
-    let mut t = [1.0; 30];
-    let mut n = 1;
-    while n < 30 {
-        t[n] = t[n - 1] / n as f64;
-        n += 1;
-    }
-    t
-};
-
 /// How far [`phis_imaginary`] sums its series, `|y|`: past `pi`, where the stepper's alias
 /// bound keeps every mode's `omega tau` (`LinearPart::alias_limit`).
 const SERIES_REACH: f64 = 3.2;
@@ -98,8 +87,8 @@ pub(super) fn phis_imaginary(y: f64) -> [(f64, f64); 3] {
         let y2 = y * y;
         let (mut re, mut im) = (0.0, 0.0);
         for k in (0..13).rev() {
-            re = re * -y2 + INV_FACTORIAL_30[2 * k + 3];
-            im = im * -y2 + INV_FACTORIAL_30[2 * k + 4];
+            re = re * -y2 + INV_FACTORIAL[2 * k + 3];
+            im = im * -y2 + INV_FACTORIAL[2 * k + 4];
         }
         let p3 = (re, y * im);
         let p2 = (0.5 - y * p3.1, y * p3.0);
@@ -169,18 +158,8 @@ fn step_forms(half: &[(f64, f64); 4], full: &[(f64, f64); 4]) -> [(f64, f64); OP
     out
 }
 
-/// `g(tau L)` for `g = sum_k form_k phi_k` on a mode of `w` rad/s damped at `c` 1/s (> 0).
-///
-/// `tau L` has the eigenvalues `m +- s`, `m = -tau c / 2`, `s^2 = tau^2 (c^2/4 - w^2)`; on
-/// a 2x2 matrix `g(tau L) = E I + D (tau L - m I)` with `E = (g(m+s) + g(m-s)) / 2` and
-/// `D = (g(m+s) - g(m-s)) / (2 s)`, both even in `s`: functions `F(s^2)`. Underdamped
-/// (`s = i tau beta`) both come from one complex value, `E = Re g`, `D = Im g / (tau beta)`,
-/// without cancellation however small `beta` is (a complex step). Overdamped, by the real
-/// difference while `|s|` >= 1e-3 (it loses `eps |g| / (|s| |D|)`, up to ~1e-10 of the
-/// operator where it is small beside the `phi`'s); nearer critical, by
-/// `F(s^2) = 2 F(0) - F(-s^2) + O(s^4)`, the complex step at `i |s|` reflected about the
-/// critical value. (One form at a time, for the tests: the stepper builds its operators
-/// together.)
+/// `g(tau L)` for `g = sum_k form_k phi_k` on a mode of `w` rad/s damped at `c` 1/s, one
+/// form at a time, for the tests ([`block_operators`] does the work).
 #[cfg(test)]
 pub(super) fn damped_operator(w: f64, c: f64, tau: f64, form: [f64; 4]) -> ModeOperator {
     block_operators(mode_matrix(w, c), tau, [form])[0]
@@ -191,11 +170,19 @@ fn mode_matrix(w: f64, c: f64) -> [[f64; 2]; 2] {
     [[0.0, 1.0], [-(w * w), -c]]
 }
 
-/// `g(tau A)` for each `g = sum_k form_k phi_k` of `forms` on any real 2x2 matrix `A`, as
-/// [`damped_operator`] (whose mode matrix is one): `A`'s eigenvalues are
-/// `alpha +- sqrt(alpha^2 - det)`, `alpha` half its trace, and
-/// `g(tau A) = E I + D tau (A - alpha I)`. The `phi` functions are evaluated once, at the
-/// points the branch needs, for all the forms.
+/// `g(tau A)` for each `g = sum_k form_k phi_k` of `forms` on any real 2x2 matrix `A` (a
+/// damped mode's `L = [[0, 1], [-w^2, -c]]` among them). The `phi` functions are evaluated
+/// once, at the points the branch needs, for all the forms.
+///
+/// `tau A` has the eigenvalues `m +- s`, `m = tau alpha`, `alpha` half `A`'s trace,
+/// `s^2 = tau^2 (alpha^2 - det)`; on a 2x2 matrix `g(tau A) = E I + D tau (A - alpha I)` with
+/// `E = (g(m+s) + g(m-s)) / 2` and `D = (g(m+s) - g(m-s)) / (2 s)`, both even in `s`:
+/// functions `F(s^2)`. With complex eigenvalues (`s = i y`; an underdamped mode) both come
+/// from one complex value, `E = Re g`, `D = Im g / y`, without cancellation however small
+/// `y` is (a complex step). With real ones, by the real difference while `|s|` >= 1e-3 (it
+/// loses `eps |g| / (|s| |D|)`, up to ~1e-10 of the operator where it is small beside the
+/// `phi`'s); nearer the meeting point, by `F(s^2) = 2 F(0) - F(-s^2) + O(s^4)`, the complex
+/// step at `i |s|` reflected about it.
 fn block_operators<const K: usize>(
     a: [[f64; 2]; 2],
     tau: f64,
@@ -401,57 +388,63 @@ mod tests {
         }
     }
 
-    /// The dense output's operators at `theta = 1` recombine into the step's own weights
-    /// (`F1 = g0 - 3 g1 + 2 g2`, `4 F2 = 4 g1 - 4 g2`, `F3 = 2 g2 - g1` on `N_n`, the
-    /// middle and `N(c)`), so the interpolant ends at the step's end; on undamped,
-    /// underdamped and overdamped modes, and the undamped form (from the sine and cosine)
-    /// equals the general one. Tolerance: a few rounding errors of operators of size ~1 at
-    /// `omega h` up to 3 (the recurrence loses about a digit, 1e-15 becomes ~1e-14).
+    /// The dense output's operators against the augmented matrix exponential (as
+    /// [`damped_operators_match_the_augmented_matrix_exponential`]: 1e-9 of the largest
+    /// scaled entry, that test's bound for the Pade exponential's own error) inside the step
+    /// and at its end, on undamped, underdamped and overdamped modes; at `theta = 1` they
+    /// recombine into the step's own weights (`F1 = g0 - 3 g1 + 2 g2`, `F2 = g1 - g2`,
+    /// `F3 = 2 g2 - g1`) to rounding (1e-13 of the scaled entries: operators of size ~1,
+    /// a few roundings each); and an undamped mode's operators by [`phis_imaginary`], as
+    /// `refine_dense` builds them, equal the general ones to rounding.
     #[test]
-    fn dense_operators_end_at_the_step_weights() {
-        let close = |a: ModeOperator, b: ModeOperator, scale: [f64; 4], what: &str| {
-            for k in 0..4 {
-                assert!(
-                    (a[k] - b[k]).abs() <= 1e-13 * scale[k],
-                    "{what}: {a:?} against {b:?}"
-                );
-            }
-        };
+    fn dense_operators_match_the_exponential_and_end_at_the_step_weights() {
         for (w, c, h) in [
             (300.0_f64, 0.0, 0.01),
             (300.0, 40.0, 0.01),
             (30.0, 200.0, 0.02),
+            (3.7e5, 0.0, 8.5e-6),
+            (3.7e5, 3.7e4, 8.5e-6),
         ] {
-            let scale = [1.0, 1.0 / w, w, 1.0];
-            let [g0, g1, g2] = dense_operators(w, c, h, 1.0);
-            let ops = mode_operators(w, c, h);
-            let mix = |a: f64, b: f64, d: f64| -> ModeOperator {
-                std::array::from_fn(|k| a * g0[k] + b * g1[k] + d * g2[k])
+            let scaled = |m: ModeOperator| [m[0], m[1] * w, m[2] / w, m[3]];
+            let largest = |m: ModeOperator| m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            let close = |a: ModeOperator, b: ModeOperator, tol: f64, what: &str| {
+                let (a, b) = (scaled(a), scaled(b));
+                let bound = tol * largest(b).max(1e-3);
+                for k in 0..4 {
+                    assert!((a[k] - b[k]).abs() <= bound, "{what}: {a:?} against {b:?}");
+                }
             };
-            let what = format!("w {w}, c {c}");
-            close(mix(1.0, -3.0, 2.0), ops[F1], scale, &what);
-            close(mix(0.0, 1.0, -1.0), ops[F2], scale, &what);
-            close(mix(0.0, -1.0, 2.0), ops[F3], scale, &what);
-            if c == 0.0 {
-                for theta in [0.1, 0.5, 0.9] {
-                    let tau = theta * h;
+            for theta in [0.1, 0.5, 0.9, 1.0] {
+                let tau = theta * h;
+                let ops = dense_operators(w, c, tau, theta);
+                let forms = [
+                    [0.0, 1.0, 0.0, 0.0],
+                    [0.0, 0.0, theta, 0.0],
+                    [0.0, 0.0, 0.0, 2.0 * theta * theta],
+                ];
+                let what = format!("w {w}, c {c}, theta {theta}");
+                for (op, form) in ops.iter().zip(forms) {
+                    let expect = augmented_operator(mode_matrix(w, c), tau, form);
+                    close(*op, expect, 1e-9, &what);
+                }
+                if c == 0.0 {
                     let p = phis_imaginary(w * tau);
                     let factors = [1.0, theta, 2.0 * theta * theta];
-                    let own: [ModeOperator; 3] = std::array::from_fn(|k| {
+                    for (k, op) in ops.iter().enumerate() {
                         let (a, b) = (factors[k] * p[k].0, factors[k] * p[k].1);
-                        [a, b / w, -(w * b), a]
-                    });
-                    let forms = [
-                        [0.0, 1.0, 0.0, 0.0],
-                        [0.0, 0.0, theta, 0.0],
-                        [0.0, 0.0, 0.0, 2.0 * theta * theta],
-                    ];
-                    let general = block_operators(mode_matrix(w, 0.0), tau, forms);
-                    for (a, b) in own.iter().zip(general) {
-                        close(*a, b, scale, &format!("{what}, theta {theta}"));
+                        close([a, b / w, -(w * b), a], *op, 1e-13, &what);
                     }
                 }
             }
+            let [g0, g1, g2] = dense_operators(w, c, h, 1.0);
+            let step = mode_operators(w, c, h);
+            let mix = |a: f64, b: f64, d: f64| -> ModeOperator {
+                std::array::from_fn(|k| a * g0[k] + b * g1[k] + d * g2[k])
+            };
+            let what = format!("w {w}, c {c}, the step's weights");
+            close(mix(1.0, -3.0, 2.0), step[F1], 1e-13, &what);
+            close(mix(0.0, 1.0, -1.0), step[F2], 1e-13, &what);
+            close(mix(0.0, -1.0, 2.0), step[F3], 1e-13, &what);
         }
     }
 
