@@ -1230,16 +1230,23 @@ mod tests {
             .map(|k| hermite(y0[k], f0[k], y1[k], f1[k], h, s))
             .collect();
         let mut refined = plain.clone();
-        let step = LastStep {
-            t: 0.0,
-            h,
-            y0: &y0,
-            f0: &f0,
-            y1: &y1,
-            f1: &f1,
-        };
+        let step = last_step(0.0, h, [&y0, &f0, &y1, &f1]);
         assert!(Method::<Coupled>::refine_dense(&m, &step, s, &mut refined));
         (refined, plain)
+    }
+
+    /// The solver's account of a step from `t` of `h`: its start and end states and
+    /// derivatives, in that order.
+    fn last_step<'a>(t: f64, h: f64, ends: [&'a [f64]; 4]) -> LastStep<'a> {
+        let [y0, f0, y1, f1] = ends;
+        LastStep {
+            t,
+            h,
+            y0,
+            f0,
+            y1,
+            f1,
+        }
     }
 
     /// Inside one step of `omega h` = 3 on the fast mode, the method's interpolant of a
@@ -1404,24 +1411,10 @@ mod tests {
         let y2 = Method::<Coupled>::y_new(&m).to_vec();
         let f2 = Method::<Coupled>::f_new(&m).unwrap().to_vec();
         let mut out = y1.clone();
-        let first = LastStep {
-            t: 0.0,
-            h,
-            y0: &y0,
-            f0: &f0,
-            y1: &y1,
-            f1: &f1,
-        };
+        let first = last_step(0.0, h, [&y0, &f0, &y1, &f1]);
         assert!(!Method::<Coupled>::refine_dense(&m, &first, 0.5, &mut out));
         assert_eq!(out, y1, "left as it was");
-        let second = LastStep {
-            t: h,
-            h,
-            y0: &y1,
-            f0: &f1,
-            y1: &y2,
-            f1: &f2,
-        };
+        let second = last_step(h, h, [&y1, &f1, &y2, &f2]);
         assert!(Method::<Coupled>::refine_dense(&m, &second, 0.5, &mut out));
     }
 
