@@ -36,8 +36,8 @@
 use super::controller::{Controller, StepEnd};
 use super::error_norm::ErrorNorm;
 use super::exponential_operators::{
-    block_step_operators, dense_operators, mode_operators, phis_imaginary, relax_operators,
-    ModeOperator, E_HALF, F1, F2, F3, OPS, PHI1_HALF, WITHOUT_L,
+    block_step_operators, dense_operators, mode_operators, relax_operators, ModeOperator, E_HALF,
+    F1, F2, F3, OPS, PHI1_HALF, WITHOUT_L,
 };
 use super::method::{LastStep, Method};
 use super::problem::OdeSystem;
@@ -691,28 +691,13 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
                 if w == 0.0 {
                     continue;
                 }
+                let ops = dense_operators(w, damping, tau, s);
                 // the position rows' constant enters through phi_1 alone
-                let (dq, du) = if damping == 0.0 {
-                    // g(tau L) = [[A, B / w], [-w B, A]] for g(i w tau) = A + i B
-                    let [p1, p2, p3] = phis_imaginary(w * tau);
-                    let (by2, by3) = (s, 2.0 * s * s);
-                    let a = [p1.0, by2 * p2.0, by3 * p3.0];
-                    let b = [p1.1, by2 * p2.1, by3 * p3.1];
-                    let (mut bq, mut au) = (0.0, 0.0);
-                    for k in 0..3 {
-                        bq += b[k] * pu[k][i];
-                        au += a[k] * pu[k][i];
-                    }
-                    (a[0] * u0[i] + bq / w, au - w * b[0] * u0[i])
-                } else {
-                    let ops = dense_operators(w, damping, tau, s);
-                    let (mut dq, mut du) = (ops[0][0] * u0[i], ops[0][2] * u0[i]);
-                    for (m, p) in ops.iter().zip(&pu) {
-                        dq += m[1] * p[i];
-                        du += m[3] * p[i];
-                    }
-                    (dq, du)
-                };
+                let (mut dq, mut du) = (ops[0][0] * u0[i], ops[0][2] * u0[i]);
+                for (m, p) in ops.iter().zip(&pu) {
+                    dq += m[1] * p[i];
+                    du += m[3] * p[i];
+                }
                 (q[i], u[i]) = (q0[i] + tau * dq, u0[i] + tau * du);
             }
             let phys = |x: [f64; 2]| [c * x[0] - sn * x[1], sn * x[0] + c * x[1]];

@@ -275,16 +275,29 @@ pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     ops
 }
 
-/// The dense output's three operators on a damped mode at `tau = theta h` inside a step of
-/// `h`: `phi_1(tau L)`, `theta phi_2(tau L)` and `2 theta^2 phi_3(tau L)`, the weights of
-/// the remainder's quadratic's three coefficients in the step's continuous extension
-/// ([`super::etd_rk4::EtdRk4`]'s `refine_dense`, which takes an undamped mode's from
-/// [`phis_imaginary`] directly).
+/// The dense output's three operators on a mode of `w` rad/s damped at `c` 1/s at
+/// `tau = theta h` inside a step of `h`: `phi_1(tau L)`, `theta phi_2(tau L)` and
+/// `2 theta^2 phi_3(tau L)`, the weights of the remainder's quadratic's three coefficients
+/// in the step's continuous extension ([`super::etd_rk4::EtdRk4`]'s `refine_dense`, at
+/// every sample and mode). An undamped mode's from [`phis_imaginary`] (`g(i w tau) = A + i
+/// B` gives `[[A, B / w], [-w B, A]]`), each one `phi` times its factor; a damped one's by
+/// [`block_operators`].
+#[inline]
 pub(super) fn dense_operators(w: f64, c: f64, tau: f64, theta: f64) -> [ModeOperator; 3] {
+    let factors = [1.0, theta, 2.0 * theta * theta];
+    if c == 0.0 {
+        let p = phis_imaginary(w * tau);
+        let inv_w = 1.0 / w;
+        return std::array::from_fn(|k| {
+            let (a, b) = (factors[k] * p[k].0, factors[k] * p[k].1);
+            [a, b * inv_w, -(w * b), a]
+        });
+    }
+    let [f1, f2, f3] = factors;
     let forms = [
-        [0.0, 1.0, 0.0, 0.0],
-        [0.0, 0.0, theta, 0.0],
-        [0.0, 0.0, 0.0, 2.0 * theta * theta],
+        [0.0, f1, 0.0, 0.0],
+        [0.0, 0.0, f2, 0.0],
+        [0.0, 0.0, 0.0, f3],
     ];
     block_operators(mode_matrix(w, c), tau, forms)
 }
@@ -394,8 +407,8 @@ mod tests {
     /// and at its end, on undamped, underdamped and overdamped modes; at `theta = 1` they
     /// recombine into the step's own weights (`F1 = g0 - 3 g1 + 2 g2`, `F2 = g1 - g2`,
     /// `F3 = 2 g2 - g1`) to rounding (1e-13 of the scaled entries: operators of size ~1,
-    /// a few roundings each); and an undamped mode's operators by [`phis_imaginary`], as
-    /// `refine_dense` builds them, equal the general ones to rounding.
+    /// a few roundings each); and an undamped mode's operators, from [`phis_imaginary`],
+    /// equal the general ones of [`block_operators`] to rounding.
     #[test]
     fn dense_operators_match_the_exponential_and_end_at_the_step_weights() {
         for (w, c, h) in [
@@ -428,11 +441,9 @@ mod tests {
                     close(*op, expect, 1e-9, &what);
                 }
                 if c == 0.0 {
-                    let p = phis_imaginary(w * tau);
-                    let factors = [1.0, theta, 2.0 * theta * theta];
-                    for (k, op) in ops.iter().enumerate() {
-                        let (a, b) = (factors[k] * p[k].0, factors[k] * p[k].1);
-                        close([a, b / w, -(w * b), a], *op, 1e-13, &what);
+                    let general = block_operators(mode_matrix(w, 0.0), tau, forms);
+                    for (op, g) in ops.iter().zip(general) {
+                        close(*op, g, 1e-13, &what);
                     }
                 }
             }
