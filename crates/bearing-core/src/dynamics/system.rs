@@ -329,15 +329,17 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 ///   it still holds some steps of the ramp's first 0.02 s.
 /// - Modes slower than 1e3 rad/s (rates, 1/s) stay explicit: an RK4 step of at most
 ///   1e-4 s resolves them (`omega h` <= 0.1).
-/// - Damping below 1e5 1/s stays explicit: at the alias bound's ~8.5 us step its `c h` is
-///   below 1, within RK4's reach. That leaves the contact damping (ratio 0.05,
+/// - Damping below 1e5 1/s stays explicit: at the alias bound's ~10 us step its `c h` is
+///   about 1, within the explicit stages' reach. That leaves the contact damping (ratio 0.05,
 ///   docs/reference/model.md's defaults; 2 zeta omega = 3.7e4 1/s at 58 kHz) in the
 ///   remainder: taken exactly as well it saved another 4 % of the steps but moved the
 ///   35-51 kHz band 1.9 % (s.e. 0.25 %) below the reference, against 0.9 % without it.
 /// - 80 steps per linearisation: on the Table-1 case 20, 40 and 80 took the same steps
 ///   within 0.3 % (65 591, 65 666, 65 780 accepted) for 3.7 % and 2.0 % fewer evaluations
 ///   at the two doublings.
-/// - `omega h` <= pi on the fastest contact mode ([`LinearPart::alias_limit`]).
+/// - `omega h` <= 1.35 pi on the fastest contact mode ([`LinearPart::alias_limit`]), below
+///   the stages' 1.5 pi: measured on the Table-1 case (docs/lab/benchmarks.md, "Stages a
+///   third of the step apart").
 /// - Quasi-static balls (their centres algebraic, their velocity slots forces) have no
 ///   oscillator.
 ///
@@ -381,7 +383,7 @@ pub fn linear_part(m: &Model) -> LinearPart {
         ],
         slowest: 1e3,
         max_age: 80,
-        alias_limit: std::f64::consts::PI,
+        alias_limit: 1.35 * std::f64::consts::PI,
     }
 }
 

@@ -3,26 +3,30 @@
 //! undamped or damped, any real 2x2 block, and a single relaxing component. Each operator
 //! is stored as the few numbers its block needs, so a step applies it without a matrix.
 
-/// The operators of a step, in the order their factors are stored.
-pub(super) const E_HALF: usize = 0;
-pub(super) const PHI1_HALF: usize = 1;
-pub(super) const F1: usize = 2;
-pub(super) const F2: usize = 3;
-pub(super) const F3: usize = 4;
-pub(super) const OPS: usize = 5;
-/// Each operator with `L` zero (classical RK4's weights).
-pub(super) const WITHOUT_L: [f64; OPS] = [1.0, 1.0, 1.0 / 6.0, 1.0 / 6.0, 1.0 / 6.0];
+/// The operators of a step, in the order their factors are stored ([`super::etd_rk4`]'s
+/// stages at a third and two thirds of the step, then its end and its weights).
+pub(super) const PHI1_THIRD: usize = 0;
+pub(super) const PHI1_TWO_THIRDS: usize = 1;
+pub(super) const PHI2_TWO_THIRDS: usize = 2;
+pub(super) const PHI1_STEP: usize = 3;
+pub(super) const PHI2_STEP: usize = 4;
+pub(super) const B2: usize = 5;
+pub(super) const B3: usize = 6;
+pub(super) const B4: usize = 7;
+pub(super) const OPS: usize = 8;
+/// Each operator with `L` zero (`phi_k(0) = 1/k!`; the weights are the 3/8 rule's).
+pub(super) const WITHOUT_L: [f64; OPS] = [1.0, 1.0, 0.5, 1.0, 0.5, 3.0 / 8.0, 3.0 / 8.0, 1.0 / 8.0];
 
 /// An operator `g(tau L)` on one mode `(q, q')`, `L = [[0, 1], [-w^2, -c]]`, as the
 /// matrix `[[m00, m01], [m10, m11]]` stored row by row. Undamped, with
 /// `g(i w tau) = A + i B`, it is `[[A, B / w], [-w B, A]]`.
 pub(super) type ModeOperator = [f64; 4];
 
-/// `1 / n!` for n = 0..29 ([`phis_imaginary`]'s series reach 29!).
-const INV_FACTORIAL: [f64; 30] = {
-    let mut t = [1.0; 30];
+/// `1 / n!` for n = 0..39 ([`phis_imaginary`]'s series reach 36!).
+const INV_FACTORIAL: [f64; 40] = {
+    let mut t = [1.0; 40];
     let mut n = 1;
-    while n < 30 {
+    while n < 40 {
         t[n] = t[n - 1] / n as f64;
         n += 1;
     }
@@ -69,15 +73,16 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
-/// How far [`phis_imaginary`] sums its series, `|y|`: past `pi`, where the stepper's alias
-/// bound keeps every mode's `omega tau` (`LinearPart::alias_limit`).
-const SERIES_REACH: f64 = 3.2;
+/// How far [`phis_imaginary`] sums its series, `|y|`: past `1.5 pi`, beyond the bearing's
+/// alias bound on every mode's `omega tau` (`LinearPart::alias_limit`).
+const SERIES_REACH: f64 = 4.8;
 
 /// `phi_1`, `phi_2`, `phi_3` at `z = i y` (an undamped mode's), as `(re, im)` pairs, for
 /// the dense output at every sample and mode. Up to `|y|` = [`SERIES_REACH`] `phi_3`'s
-/// even and odd terms as two real series in `y^2`, to `y^24 / 27!` and `y^25 / 28!` (at
-/// `|y|` = 3.2 the first terms left out are below 2e-17 of each part, and the terms'
-/// magnitudes sum to at most 2.8 times the part: no cancellation to speak of), then
+/// even and odd terms as two real series in `y^2`, to `y^32 / 35!` and `y^33 / 36!` (at
+/// `|y|` = 4.8 the first terms left out are below 3e-19 of each part, and the terms'
+/// magnitudes sum to at most 9.7 times the part: a digit's cancellation at the far end,
+/// 1e-15 of the part), then
 /// `phi_k = 1/k! + i y phi_{k+1}`: no sine or cosine, no division, no branch in the
 /// bearing's use. Beyond, `phi_{k+1} = (phi_k - 1/k!) / (i y)` from the library's
 /// `sin_cos`.
@@ -86,7 +91,7 @@ pub(super) fn phis_imaginary(y: f64) -> [(f64, f64); 3] {
     if y.abs() <= SERIES_REACH {
         let y2 = y * y;
         let (mut re, mut im) = (0.0, 0.0);
-        for k in (0..13).rev() {
+        for k in (0..17).rev() {
             re = re * -y2 + INV_FACTORIAL[2 * k + 3];
             im = im * -y2 + INV_FACTORIAL[2 * k + 4];
         }
@@ -132,12 +137,18 @@ fn phis_real(x: f64) -> [(f64, f64); 4] {
 /// Each operator's `tau` over `h`, and its combination of `phi_0..phi_3` at `tau L`: the
 /// one table every block's operators are built from.
 const OPERATOR_FORMS: [(f64, [f64; 4]); OPS] = [
-    (0.5, [1.0, 0.0, 0.0, 0.0]),
-    (0.5, [0.0, 1.0, 0.0, 0.0]),
-    (1.0, [0.0, 1.0, -3.0, 4.0]),
-    (1.0, [0.0, 0.0, 1.0, -2.0]),
-    (1.0, [0.0, 0.0, -1.0, 4.0]),
+    (1.0 / 3.0, [0.0, 1.0, 0.0, 0.0]),
+    (2.0 / 3.0, [0.0, 1.0, 0.0, 0.0]),
+    (2.0 / 3.0, [0.0, 0.0, 1.0, 0.0]),
+    (1.0, [0.0, 1.0, 0.0, 0.0]),
+    (1.0, [0.0, 0.0, 1.0, 0.0]),
+    (1.0, [0.0, 0.0, 3.75, -9.0]),
+    (1.0, [0.0, 0.0, 0.75, 0.0]),
+    (1.0, [0.0, 0.0, -0.75, 3.0]),
 ];
+
+/// Which third of the step each operator's `tau` is: 1, 2 or 3.
+const THIRDS: [usize; OPS] = [1, 2, 2, 3, 3, 3, 3, 3];
 
 /// `sum_k form_k phi_k` from the `phi` values `p` (complex, as `(re, im)`).
 fn form_sum(p: &[(f64, f64); 4], form: &[f64; 4]) -> (f64, f64) {
@@ -146,14 +157,14 @@ fn form_sum(p: &[(f64, f64); 4], form: &[f64; 4]) -> (f64, f64) {
     (re, im)
 }
 
-/// Each operator's form at its `tau`, from the `phi` values at the half and the full step.
-/// (Plain loops here and in the callers: the arrays' `map` was left a call, 0.5 % of the
-/// Table-1 case's time.)
+/// Each operator's form at its `tau`, from the `phi` values at a third, two thirds and
+/// the whole of the step. (Plain loops here and in the callers: the arrays' `map` was left
+/// a call, 0.5 % of the Table-1 case's time.)
 #[inline]
-fn step_forms(half: &[(f64, f64); 4], full: &[(f64, f64); 4]) -> [(f64, f64); OPS] {
+fn step_forms(phis_at: &[[(f64, f64); 4]; 3]) -> [(f64, f64); OPS] {
     let mut out = [(0.0, 0.0); OPS];
-    for (o, (frac, form)) in out.iter_mut().zip(&OPERATOR_FORMS) {
-        *o = form_sum(if *frac == 0.5 { half } else { full }, form);
+    for ((o, (_, form)), third) in out.iter_mut().zip(&OPERATOR_FORMS).zip(THIRDS) {
+        *o = form_sum(&phis_at[third - 1], form);
     }
     out
 }
@@ -242,31 +253,37 @@ fn block_operators<const K: usize>(
     })
 }
 
-/// The five operators of a step of `h` on one oscillator mode of `w` rad/s, damped at `c`
-/// 1/s.
+/// The operators of a step of `h` on one oscillator mode of `w` rad/s, damped at `c` 1/s.
 pub(super) fn mode_operators(w: f64, c: f64, h: f64) -> [ModeOperator; OPS] {
     if c != 0.0 {
         return block_step_operators(mode_matrix(w, c), h);
     }
     // g(i w tau) = A + i B -> [[A, B / w], [-w B, A]]
     let op = |(a, b): (f64, f64)| [a, if w == 0.0 { 0.0 } else { b / w }, -(w * b), a];
-    // the full step's sine and cosine from the half step's by the double angle (within a
-    // few 1e-16 of the library's), where both steps' `phi`s need them: one library call a
-    // mode instead of two
-    let (half, full) = (0.5 * w * h, w * h);
-    let mut half_trig = None;
-    let half_phis = phis_with(0.0, half, || *half_trig.insert(half.sin_cos()));
-    let full_phis = phis_with(0.0, full, || match half_trig {
-        Some((s, c)) => (2.0 * s * c, (c - s) * (c + s)),
-        None => full.sin_cos(),
+    // the sines and cosines at two thirds and the whole step from the third's by the
+    // double and the sum angle (within a few 1e-16 of the library's), where the `phi`s
+    // need them: one library call a mode instead of three
+    let third = w * h / 3.0;
+    let mut trig = None;
+    let mut third_trig = || *trig.get_or_insert_with(|| third.sin_cos());
+    let p1 = phis_with(0.0, third, &mut third_trig);
+    let p2 = phis_with(0.0, 2.0 * third, || {
+        let (s, c) = third_trig();
+        (2.0 * s * c, (c - s) * (c + s))
+    });
+    let p3 = phis_with(0.0, w * h, || {
+        let (s, c) = third_trig();
+        let (s2, c2) = (2.0 * s * c, (c - s) * (c + s));
+        (s2 * c + c2 * s, c2 * c - s2 * s)
     });
     let mut ops = [[0.0; 4]; OPS];
-    for (o, g) in ops.iter_mut().zip(step_forms(&half_phis, &full_phis)) {
+    for (o, g) in ops.iter_mut().zip(step_forms(&[p1, p2, p3])) {
         *o = op(g);
     }
     if w == 0.0 {
-        // a free mode, L = [[0, 1], [0, 0]] nilpotent: g(tau L) = g(0) I + g'(0) tau L
-        let slope = [1.0, 0.5, 1.0 / 6.0, 1.0 / 12.0, 0.0];
+        // a free mode, L = [[0, 1], [0, 0]] nilpotent: g(tau L) = g(0) I + g'(0) tau L,
+        // g'(0) = sum form_k / (k + 1)!
+        let slope = [0.5, 0.5, 1.0 / 6.0, 0.5, 1.0 / 6.0, 0.25, 0.125, 0.0];
         for k in 0..OPS {
             let tau = OPERATOR_FORMS[k].0 * h;
             ops[k] = [WITHOUT_L[k], tau * slope[k], 0.0, WITHOUT_L[k]];
@@ -302,23 +319,41 @@ pub(super) fn dense_operators(w: f64, c: f64, tau: f64, theta: f64) -> [ModeOper
     block_operators(mode_matrix(w, c), tau, forms)
 }
 
-/// The five operators of a step of `h` under the real 2x2 block `a` (1/s): a pair of
+/// The operators of a step of `h` under the real 2x2 block `a` (1/s): a pair of
 /// components relaxing together, or a damped mode ([`mode_operators`]).
 pub(super) fn block_step_operators(a: [[f64; 2]; 2], h: f64) -> [ModeOperator; OPS] {
-    // the two half-step operators, then the three full-step ones
+    // by `tau`: the third's operator, the two thirds', then the whole step's five
     let form = |k: usize| OPERATOR_FORMS[k].1;
-    let [e_half, phi1_half] = block_operators(a, 0.5 * h, [form(E_HALF), form(PHI1_HALF)]);
-    let [f1, f2, f3] = block_operators(a, h, [form(F1), form(F2), form(F3)]);
-    [e_half, phi1_half, f1, f2, f3]
+    let [p1_third] = block_operators(a, h / 3.0, [form(PHI1_THIRD)]);
+    let [p1_two, p2_two] = block_operators(
+        a,
+        2.0 * h / 3.0,
+        [form(PHI1_TWO_THIRDS), form(PHI2_TWO_THIRDS)],
+    );
+    let [p1, p2, b2, b3, b4] = block_operators(
+        a,
+        h,
+        [
+            form(PHI1_STEP),
+            form(PHI2_STEP),
+            form(B2),
+            form(B3),
+            form(B4),
+        ],
+    );
+    [p1_third, p1_two, p2_two, p1, p2, b2, b3, b4]
 }
 
-/// The five operators of a step of `h` on a component relaxing at `rate` (1/s, < 0).
+/// The operators of a step of `h` on a component relaxing at `rate` (1/s, < 0).
 pub(super) fn relax_operators(rate: f64, h: f64) -> [f64; OPS] {
+    let third = rate * h / 3.0;
+    let phis_at = [
+        phis_real(third),
+        phis_real(2.0 * third),
+        phis_real(rate * h),
+    ];
     let mut ops = [0.0; OPS];
-    for (o, (re, _)) in ops
-        .iter_mut()
-        .zip(step_forms(&phis_real(0.5 * rate * h), &phis_real(rate * h)))
-    {
+    for (o, (re, _)) in ops.iter_mut().zip(step_forms(&phis_at)) {
         *o = re;
     }
     ops
@@ -334,7 +369,7 @@ mod tests {
     /// 1/2: 1.9-2.6e-15 of `|phi_3|` off at y = -0.5566).
     #[test]
     fn imaginary_axis_phis_match_exact_values_and_the_complex_ones() {
-        let exact: [(f64, [(f64, f64); 3]); 6] = [
+        let exact: [(f64, [(f64, f64); 3]); 8] = [
             (
                 0.25,
                 [
@@ -383,6 +418,22 @@ mod tests {
                     (0.089_814_186_068_562_56, 0.097_691_972_308_086_38),
                 ],
             ),
+            (
+                4.7,
+                [
+                    (-0.212_749_629_268_957_63, 0.215_401_843_289_976_75),
+                    (0.045_830_179_423_399_309, 0.258_031_836_014_671_84),
+                    (0.054_900_390_641_419_54, 0.096_631_876_718_425_679),
+                ],
+            ),
+            (
+                5.0,
+                [
+                    (-0.191_784_854_932_627_69, 0.143_267_562_907_354_75),
+                    (0.028_653_512_581_470_949, 0.238_356_970_986_525_54),
+                    (0.047_671_394_197_305_108, 0.094_269_297_483_705_81),
+                ],
+            ),
         ];
         let off = |a: (f64, f64), b: (f64, f64)| {
             (a.0 - b.0).abs().max((a.1 - b.1).abs()) / b.0.hypot(b.1)
@@ -392,7 +443,7 @@ mod tests {
                 assert!(off(*a, b) <= 3e-15, "{y}: {a:?} against {b:?}");
             }
         }
-        for k in -3_000..3_000 {
+        for k in -4_200..4_200 {
             let y = k as f64 * 1.2e-3 + 1e-9 * (k as f64).sin();
             let own = phis_imaginary(y);
             for (a, b) in own.iter().zip(&phis(0.0, y)[1..]) {
@@ -405,8 +456,8 @@ mod tests {
     /// [`damped_operators_match_the_augmented_matrix_exponential`]: 1e-9 of the largest
     /// scaled entry, that test's bound for the Pade exponential's own error) inside the step
     /// and at its end, on undamped, underdamped and overdamped modes; at `theta = 1` they
-    /// recombine into the step's own weights (`F1 = g0 - 3 g1 + 2 g2`, `F2 = g1 - g2`,
-    /// `F3 = 2 g2 - g1`) to rounding (1e-13 of the scaled entries: operators of size ~1,
+    /// recombine into the step's own weights (`B2 = 15/4 g1 - 9/2 g2`, `B3 = 3/4 g1`,
+    /// `B4 = 3/2 g2 - 3/4 g1`, and `phi_1 = g0`) to rounding (1e-13 of the scaled entries: operators of size ~1,
     /// a few roundings each); and an undamped mode's operators, from [`phis_imaginary`],
     /// equal the general ones of [`block_operators`] to rounding.
     #[test]
@@ -453,9 +504,10 @@ mod tests {
                 std::array::from_fn(|k| a * g0[k] + b * g1[k] + d * g2[k])
             };
             let what = format!("w {w}, c {c}, the step's weights");
-            close(mix(1.0, -3.0, 2.0), step[F1], 1e-13, &what);
-            close(mix(0.0, 1.0, -1.0), step[F2], 1e-13, &what);
-            close(mix(0.0, -1.0, 2.0), step[F3], 1e-13, &what);
+            close(mix(1.0, 0.0, 0.0), step[PHI1_STEP], 1e-13, &what);
+            close(mix(0.0, 3.75, -4.5), step[B2], 1e-13, &what);
+            close(mix(0.0, 0.75, 0.0), step[B3], 1e-13, &what);
+            close(mix(0.0, -0.75, 1.5), step[B4], 1e-13, &what);
         }
     }
 
@@ -514,7 +566,8 @@ mod tests {
     /// augmented matrix `[[tau L, I, 0, 0], [0, 0, I, 0], [0, 0, 0, I], [0, 0, 0, 0]]`, which
     /// is `[e^{tau L}, phi_1, phi_2, phi_3]` (nalgebra's Pade exponential): underdamped,
     /// exactly critical and just under, overdamped on both sides of the switch to the
-    /// reflected complex step (`|s|` = 1e-3; the half-step operators see half the `s`),
+    /// reflected complex step (`|s|` = 1e-3; the shorter `tau`s see a third and two thirds
+    /// of the `s`),
     /// stiff, free, and backwards in time as the dense output uses it.
     #[test]
     fn damped_operators_match_the_augmented_matrix_exponential() {
@@ -569,8 +622,8 @@ mod tests {
             }
         }
         // at tau = 0, g(0)
-        let form = OPERATOR_FORMS[F1].1;
-        let g0 = 1.0 - 3.0 / 2.0 + 4.0 / 6.0;
+        let form = OPERATOR_FORMS[B2].1;
+        let g0 = 3.75 / 2.0 - 9.0 / 6.0;
         assert_eq!(damped_operator(100.0, 30.0, 0.0, form), [g0, 0.0, 0.0, g0]);
     }
 
@@ -630,16 +683,18 @@ mod tests {
         }
     }
 
-    /// An undamped mode's operators (the full step's sine and cosine by the double angle
-    /// from the half step's) match the augmented matrix exponential from `omega h` = 0.3
-    /// (both steps by the series) and 0.9 (the half step by the series, the full step its
-    /// own sine) to pi, the alias bound, and past it. Velocities scaled by `w`; tolerance 1e-13 of the largest
-    /// entry: the double angle's few 1e-16 and the Pade exponential's own error, far
-    /// below the 1e-9 the damped modes' test allows (a sine 1e-12 off fails it).
+    /// An undamped mode's operators (the sines and cosines at two thirds and the whole step
+    /// by the double and the sum angle from the third's) match the augmented matrix
+    /// exponential from `omega h` = 0.3 (every `tau` by the series) and 0.9 (the third by
+    /// the series, the others from its sine) to pi, 1.35 pi (the alias bound), 1.5 pi and
+    /// past it. Velocities scaled by `w`; tolerance 1e-13 of the largest entry: the angle
+    /// formulas' few 1e-16 and the Pade exponential's own error, far below the 1e-9 the
+    /// damped modes' test allows (a sine 1e-12 off fails it).
     #[test]
     fn undamped_operators_match_the_augmented_matrix_exponential() {
         let (w, mode) = (3.7e5, [[0.0, 1.0], [-(3.7e5f64 * 3.7e5), 0.0]]);
-        for wh in [0.3, 0.9, 1.0, 1.5, 2.8, std::f64::consts::PI, 4.5] {
+        let pi = std::f64::consts::PI;
+        for wh in [0.3, 0.9, 1.0, 1.5, 2.8, pi, 1.35 * pi, 1.5 * pi, 6.5] {
             let h = wh / w;
             let ops = mode_operators(w, 0.0, h);
             let scaled = |m: ModeOperator| [m[0], m[1] * w, m[2] / w, m[3]];

@@ -8,9 +8,9 @@ use super::definition::{Integrator, Scene};
 /// Table-1 scene, s: 0.5 s in 100 595 steps with `rk4_fsal` at 1e-5 (docs/lab/benchmarks.md).
 /// The step is held there by the ball-race contact modes, not by the tolerance, so it is
 /// a fair guess for any tolerance; reduced fidelity levels, the implicit method and the
-/// exponential one (`etd_rk4`, `auto_etd`, the preset's since 2026-11-30: 0.5 s in 65 035
-/// steps, 269 724 evaluations on the twenty-sixth session's build, which the estimate
-/// overstates 1.67 times) take larger steps,
+/// exponential one (`etd_rk4`, `auto_etd`, the preset's since 2026-11-30: 0.5 s in 57 559
+/// steps, 242 031 evaluations with its stages a third of the step apart, 2026-12-01, which
+/// the estimate overstates 1.86 times) take larger steps,
 /// so the estimate errs on the high side for them.
 pub const TYPICAL_STEP: f64 = 5.0e-6;
 
@@ -67,8 +67,7 @@ mod tests {
         // Table-1 compound case at 1e-5, 2026-11-29; 424 069 under the paper's model with
         // rk4_fsal; docs/lab/benchmarks.md), the RK4 family's step; the estimate is
         // 4 * 0.5 / 5e-6 + 51 200 = 451 200, within 10 % of it (the preset's `auto_etd`
-        // takes 269 724 on the twenty-sixth session's build, 2026-11-30: the estimate stays
-        // on the high side)
+        // takes 242 031 since 2026-12-01: the estimate stays on the high side)
         let scene = preset_scene("h7005c").unwrap();
         let e = estimate(&scene);
         assert!((e.evaluations / 451_313.0 - 1.0).abs() < 0.1, "{e:?}");

@@ -417,13 +417,15 @@ pub enum Integrator {
     /// the explicit method being the accurate one for the contact modes
     /// (docs/reference/model.md, "Time integration").
     AutoSlip,
-    /// The exponential Runge-Kutta method ETDRK4 (order 4, RK4_FSAL's error estimate), exact
-    /// on each ball's contact oscillator (its axial and radial motion on its two Hertz
-    /// contacts, with a mode's damping where it passes 1e5 1/s, linearised by differences
-    /// every 80 steps), on the relaxation of its spin `w_t`, of its orbital speed and spin
-    /// `w_x` together (one 2x2 block) and on the cage's radial velocities and spin: the contact modes rotated exactly, never damped numerically or
-    /// unstable, the step held on them only to `omega h <= pi` (1.11 times RK4's stability
-    /// limit) for accuracy (docs/reference/model.md, "Solver and integrators").
+    /// A fourth-order exponential Runge-Kutta method with stages a third of the step apart
+    /// (with `L` zero, Kutta's 3/8 rule; its own third-order companion as the error
+    /// estimate), exact on each ball's contact oscillator (its axial and radial motion on
+    /// its two Hertz contacts, with a mode's damping where it passes 1e5 1/s, linearised by
+    /// differences every 80 steps), on the relaxation of its spin `w_t`, of its orbital
+    /// speed and spin `w_x` together (one 2x2 block) and on the cage's radial velocities
+    /// and spin: the contact modes rotated exactly, never damped numerically or unstable,
+    /// the step held on them only to `omega h <= 1.35 pi` for accuracy
+    /// (docs/reference/model.md, "Solver and integrators").
     EtdRk4,
     /// `etd_rk4` and `slip_implicit` under `auto_slip`'s measured-cost rule: `slip_implicit`
     /// where the balls' whole slip relaxation is stiff (low speed), `etd_rk4` elsewhere.
