@@ -55,8 +55,12 @@ impl StressScene {
 /// ball-race contact modes: measured 0.43-2.73x at 20 ms and 0.1 s (2026-11-29; 0.5-2.2x
 /// under the paper's model; 0.58-3.37x at 0.1 s on 2026-11-30 under `auto_etd`, against a
 /// reference 0.81 times as costly as `auto_slip`'s; 0.57-3.54x on the twenty-fourth
-/// session's build, 0.55-3.39x on the twenty-fifth's, 0.58-2.74x on the twenty-sixth's), so
-/// 4x leaves room for the start-up transient of short runs and for defect edges.
+/// session's build, 0.55-3.39x on the twenty-fifth's, 0.58-2.74x on the twenty-sixth's;
+/// 0.62-3.98x with `etd_rk4`'s stages a third of the step apart, 2026-12-01, against a
+/// reference 0.82 times as costly: `ten_times_load` at 0.1 s is the 3.98, 18 % more
+/// evaluations than under the stages before, its steps held by the error estimate below
+/// the bound; docs/lab/benchmarks.md), so 4x leaves room for the start-up transient of
+/// short runs and for defect edges.
 const SAME_COST: f64 = 4.0;
 
 /// With the cage whirling on its land film (eccentricity ~0.95 at 60000 rpm), `rk4_fsal`'s

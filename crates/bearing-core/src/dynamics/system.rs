@@ -329,8 +329,8 @@ pub fn ball_velocity_jacobian(m: &Model) -> BlockJacobian {
 ///   it still holds some steps of the ramp's first 0.02 s.
 /// - Modes slower than 1e3 rad/s (rates, 1/s) stay explicit: an RK4 step of at most
 ///   1e-4 s resolves them (`omega h` <= 0.1).
-/// - Damping below 1e5 1/s stays explicit: at the alias bound's ~10 us step its `c h` is
-///   about 1, within the explicit stages' reach. That leaves the contact damping (ratio 0.05,
+/// - Damping below 1e5 1/s stays explicit: at the alias bound's ~11.5 us step (1.35 pi at
+///   3.7e5 rad/s) its `c h` is at most about 1.15, within the explicit stages' reach. That leaves the contact damping (ratio 0.05,
 ///   docs/reference/model.md's defaults; 2 zeta omega = 3.7e4 1/s at 58 kHz) in the
 ///   remainder: taken exactly as well it saved another 4 % of the steps but moved the
 ///   35-51 kHz band 1.9 % (s.e. 0.25 %) below the reference, against 0.9 % without it.

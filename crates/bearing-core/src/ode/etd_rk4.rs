@@ -7,22 +7,27 @@
 //! At a step from `u_n` the derivative is split as `f(u) = L (u - u_n) + N(u)`, `L`
 //! block-diagonal (zero outside the named blocks), and the variation-of-constants formula
 //! is integrated with `N` through four stages a third of the step apart (the form of
-//! exponential Runge-Kutta methods in differences `D_i = N(U_i) - N_n`, Luan and Ostermann,
-//! BIT 54, 2014, eq. 1.2):
+//! exponential Runge-Kutta methods in differences `D_i = N(U_i) - N_n`, as V. T. Luan
+//! states it, BIT Numer. Math. 61, 2021, eqs. 1.2-1.3, crediting Luan and Ostermann's
+//! earlier papers; read in part):
 //! `U_2 = u_n + h/3 phi_1(hL/3) N_n`,
 //! `U_3 = u_n + 2h/3 phi_1(2hL/3) N_n + 2h phi_2(2hL/3) D_2`,
 //! `U_4 = u_n + h phi_1(hL) N_n + 2h phi_2(hL) (D_3 - D_2)`,
 //! `u_{n+1} = u_n + h [phi_1 N_n + b_2 D_2 + b_3 D_3 + b_4 D_4]` with
 //! `b_2 = 15/4 phi_2 - 9 phi_3`, `b_3 = 3/4 phi_2`, `b_4 = 3 phi_3 - 3/4 phi_2` at `hL`.
 //! With `L` zero this is Kutta's 3/8 rule. The weights integrate a remainder quadratic in
-//! time exactly (`sum b_i c_i = phi_2`, `sum b_i c_i^2 / 2 = phi_3` for every `L`), and the
-//! one weight left free is fixed by the last condition of classical order four with `L`
-//! (`sum b_i'(0) psi_{2,i} = 0`): derived and checked to order four with noncommuting `L`
-//! and Jacobian in `scripts/research/etd_thirds.py` (this project's own). It replaced
-//! Cox and Matthews' ETDRK4 (J. Comput. Phys. 176, 2002; not read), whose stages sit
-//! `h/2` apart, on 2026-12-01: sampled a third of the step apart, the remainder's response at
-//! twice a contact mode's frequency stays resolved to `omega h` = 1.5 pi instead of pi, so
-//! the bearing's steps can be longer at the same accuracy (docs/lab/benchmarks.md,
+//! time exactly (`sum b_i c_i = phi_2`, `sum b_i c_i^2 / 2 = phi_3` for every `L`) and meet
+//! the condition of classical order four on their first derivative in `hL`
+//! (`sum b_i'(0) psi_{2,i} = 0`); that leaves one parameter free, set so that no `b_i`
+//! holds `phi_1`: derived and checked to classical order four with noncommuting `L` and
+//! Jacobian in `scripts/research/etd_thirds.py` (this project's own; its stages meet the
+//! stiff order conditions only as `L` goes to zero, as Cox and Matthews' do). It replaced
+//! Cox and Matthews' ETDRK4 (J. Comput. Phys. 176, 2002; not read), whose stages sit `h/2`
+//! apart, on 2026-12-01: stages `h/3` apart sample the remainder's response at twice a
+//! contact mode's frequency at least twice a period up to `omega h` = 1.5 pi (that is the
+//! aliasing limit itself, not a resolution: a quadratic through the stages still misses
+//! most of that response near it), and on the Table-1 case steps to 1.35 pi kept the bands
+//! and the cage speed where Cox and Matthews' at pi did not (docs/lab/benchmarks.md,
 //! "Stages a third of the step apart"). The `phi` functions integrate the forcing's
 //! polynomial part exactly, which Lawson's integrating factor (tried first, not kept) does
 //! not: on a component relaxing at `|lambda| h` = 200 towards a moving target it was 33
@@ -32,8 +37,14 @@
 //! never amplifies them, unlike a Rosenbrock method (which damps them) or RK4 (unstable
 //! beyond `omega h` = 2.83). The error estimate is the last stage's weight on the step
 //! end's remainder in place of the stage's, `h b_4 (N(U_4) - N(u_{n+1}))` (with `L` zero,
-//! the 3/8 rule against its first-same-as-last third-order companion), so the solver's
-//! controller and norm are unchanged.
+//! the 3/8 rule against its first-same-as-last companion `h/8 (k_4 - k_5)`). That
+//! companion is second order, not third (the 3/8 rule's fourth stage is first order), so
+//! the estimate scales as `h^3` where the controller is set for `h^4` (Cox and Matthews'
+//! `h f_3 (N(c) - N(u_{n+1}))`, RK4_FSAL's form, scales as `h^4`): it overstates the
+//! error where `N` depends on the state and errs on the short side. A third-order
+//! companion exists (weights `b_i + phi_3/4 (3, -3, 1)` on `D_2`, `D_3`, `D_5`, the end's
+//! remainder as a fifth stage; with `L` zero `(1/12, 1/2, 1/4, 0, 1/6)`); it is not taken
+//! yet (docs/lab/benchmarks.md, "Stages a third of the step apart").
 //!
 //! The linearisation is refreshed every [`LinearPart::max_age`] steps (two differences
 //! for the oscillators' stiffness, two more for their damping, one per group of relaxing
@@ -89,8 +100,8 @@ pub struct LinearPart {
     pub max_age: u32,
     /// Largest `omega h` of the fastest mode the part holds, rad: the remainder carries
     /// the modes' nonlinear part at twice their frequency, which the stages, `h/3` apart,
-    /// sample at least twice a period up to `1.5 pi` (see [`Method::step_limit`] of
-    /// [`EtdRk4`]); the problem sets the bound it measured.
+    /// sample at least twice a period only up to `1.5 pi`, the aliasing limit (see
+    /// [`Method::step_limit`] of [`EtdRk4`]); the problem sets the bound it measured.
     pub alias_limit: f64,
 }
 
@@ -644,8 +655,8 @@ impl<S: OdeSystem> Method<S> for EtdRk4 {
         stats.rhs_evals += 1;
         n5.copy_from_slice(&self.f_new);
         self.remainder(y, &y_new, &mut n5);
-        // the third-order solution with the end's remainder in the last stage's place
-        // differs by h b_4 (N(U_4) - N(u_{n+1}))
+        // the second-order solution with the end's remainder in the last stage's place
+        // differs by h b_4 (N(U_4) - N(u_{n+1})) (module doc: an overestimate)
         for ((e, a), b) in self.tmp.iter_mut().zip(&n4).zip(&n5) {
             *e = a - b;
         }
@@ -1092,10 +1103,10 @@ mod tests {
     }
 
     /// A pair taken whole steps at `|lambda| h` = 18 on the slow solution within 1e-10 of
-    /// classical RK4 at 1e-8 s (`|lambda| h` = 0.009; measured 3.5e-13: the remainder here
+    /// classical RK4 at 1e-8 s (`|lambda| h` = 0.009; measured 3.6e-13: the remainder here
     /// is the targets' slow motion times `A`, which the `phi` functions integrate to fourth
     /// order); each component at its own rate, the coupling (2.1e6 1/s) left to the
-    /// remainder, is off by more than 1e-7 there (measured 5.8e-6, against the targets'
+    /// remainder, is off by more than 1e-7 there (measured 5.4e-6, against the targets'
     /// lag of ~2e-5 behind `g`).
     #[test]
     fn a_pair_taken_whole_steps_over_its_coupled_relaxation() {
@@ -1185,7 +1196,7 @@ mod tests {
                 .map(|i| (y[i] - reference[i]).abs())
                 .fold(0.0, f64::max)
         };
-        // measured 2.0e-6 (RK4 8e-9 in 60 times the steps); Lawson's integrating-factor form
+        // measured 8.9e-7 (RK4 8e-9 in 64 times the steps); Lawson's integrating-factor form
         // of the same stages (not kept) was 2.4e-3 off here, in the relaxing component its
         // quadrature cannot follow at |lambda| h ~ 200: the bound catches that failure
         assert!(err(etd.y()) < 2e-5, "etd {} {:?}", err(etd.y()), etd.stats);
@@ -1368,13 +1379,12 @@ mod tests {
                 let err = |v: &[f64]| (0..2).map(|k| (v[k] - fine[k]).abs()).fold(0.0, f64::max);
                 (err(&out), err(&plain))
             };
-            // measured at mid-step, undamped: omega h = 1.5, 2.9e-6 against the plain
-            // 9.5e-5; 0.75, 5.9e-8, 49 times less (damped: 2.6e-6, 9.2e-5, 47 times less;
-            // undamped, the step ends 4.8e-6 and 1.1e-7 off;
-            // the interpolant from the step's ends alone read 9.9e-6 and 2.7e-7). At omega
-            // h = 3 the step's own error (1.1e-4 at its end: this cubic term's third
-            // harmonic is beyond what the stages sample) sets the scale: 4.4e-5 at mid-step,
-            // the plain Hermite 2.9e-4.
+            // measured at mid-step, undamped: omega h = 1.5, 1.8e-6 against the plain
+            // 9.5e-5; 0.75, 3.8e-8, 48 times less (damped: 1.6e-6, 9.2e-5, 46 times less).
+            // Under Cox and Matthews' stages (before 2026-12-01) it read 2.9e-6 and 5.9e-8,
+            // the step ends 4.8e-6 and 1.1e-7 off, the interpolant from the step's ends
+            // alone 9.9e-6 and 2.7e-7; at omega h = 3 the step's own error (1.1e-4 at its
+            // end) set the scale: 4.4e-5 at mid-step, the plain Hermite 2.9e-4.
             let (e1, p1) = errors(0.015);
             let (e2, _) = errors(0.0075);
             assert!(e1 < 0.1 * p1, "{what}: refined {e1}, plain Hermite {p1}");

@@ -73,16 +73,17 @@ fn phis_with(x: f64, y: f64, trig: impl FnOnce() -> (f64, f64)) -> [(f64, f64); 
     out
 }
 
-/// How far [`phis_imaginary`] sums its series, `|y|`: past `1.5 pi`, beyond the bearing's
-/// alias bound on every mode's `omega tau` (`LinearPart::alias_limit`).
-const SERIES_REACH: f64 = 4.8;
+/// How far [`phis_imaginary`] sums its series, `|y|`: past the bearing's alias bound on
+/// every mode's `omega tau` (`LinearPart::alias_limit`, 1.35 pi = 4.24).
+const SERIES_REACH: f64 = 4.5;
 
 /// `phi_1`, `phi_2`, `phi_3` at `z = i y` (an undamped mode's), as `(re, im)` pairs, for
 /// the dense output at every sample and mode. Up to `|y|` = [`SERIES_REACH`] `phi_3`'s
 /// even and odd terms as two real series in `y^2`, to `y^32 / 35!` and `y^33 / 36!` (at
-/// `|y|` = 4.8 the first terms left out are below 3e-19 of each part, and the terms'
-/// magnitudes sum to at most 9.7 times the part: a digit's cancellation at the far end,
-/// 1e-15 of the part), then
+/// `|y|` = 4.5 the first terms left out are below 2e-20 of each part, and the terms'
+/// magnitudes sum to at most 7.4 times the part; `phi_1`, two products by `y` from
+/// `phi_3`, comes within 2.4e-15 of itself there, 1.7e-15 to 4.24: float64 against 40
+/// digits, scanned from 3), then
 /// `phi_k = 1/k! + i y phi_{k+1}`: no sine or cosine, no division, no branch in the
 /// bearing's use. Beyond, `phi_{k+1} = (phi_k - 1/k!) / (i y)` from the library's
 /// `sin_cos`.
@@ -710,6 +711,15 @@ mod tests {
                     "w h {wh} operator {k}: {op:?} vs {expect:?}"
                 );
             }
+        }
+    }
+
+    /// Each operator's third (`THIRDS`, which `step_forms` reads) is its `tau` over `h` in
+    /// `OPERATOR_FORMS` times three.
+    #[test]
+    fn each_operator_is_read_at_its_own_tau() {
+        for (k, &(frac, _)) in OPERATOR_FORMS.iter().enumerate() {
+            assert_eq!(THIRDS[k] as f64, 3.0 * frac, "operator {k}");
         }
     }
 

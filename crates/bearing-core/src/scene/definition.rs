@@ -418,8 +418,8 @@ pub enum Integrator {
     /// (docs/reference/model.md, "Time integration").
     AutoSlip,
     /// A fourth-order exponential Runge-Kutta method with stages a third of the step apart
-    /// (with `L` zero, Kutta's 3/8 rule; its own third-order companion as the error
-    /// estimate), exact on each ball's contact oscillator (its axial and radial motion on
+    /// (with `L` zero, Kutta's 3/8 rule; the error estimate against its first-same-as-last
+    /// companion), exact on each ball's contact oscillator (its axial and radial motion on
     /// its two Hertz contacts, with a mode's damping where it passes 1e5 1/s, linearised by
     /// differences every 80 steps), on the relaxation of its spin `w_t`, of its orbital
     /// speed and spin `w_x` together (one 2x2 block) and on the cage's radial velocities
