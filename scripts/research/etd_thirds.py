@@ -2,8 +2,8 @@
 their weights derived, their order checked, and the method set beside Cox and Matthews'
 ETDRK4 (stages `h/2` apart), which it replaced on 2026-12-01 (issue 34).
 
-The method, in the form of differences `D_i = N(U_i) - N_n` (Luan and Ostermann, BIT 54,
-2014, eq. 1.2), for `u' = L u + g(u)` with `N(v) = f(v) - L (v - u_n)`:
+The method, in the form of differences `D_i = N(U_i) - N_n` (as V. T. Luan states it, BIT
+Numer. Math. 61, 2021, eqs. 1.2-1.3), for `u' = L u + g(u)` with `N(v) = f(v) - L (v - u_n)`:
 
     U_2 = u + h/3 phi_1(hL/3) N_n
     U_3 = u + 2h/3 phi_1(2hL/3) N_n + 2h phi_2(2hL/3) D_2
