@@ -53,9 +53,6 @@
 //! no accuracy: what it misses stays in `N`, under the error control. Nothing allocates
 //! after [`EtdRk4::new`].
 
-// The stage formulas index the state and the stages at one component.
-#![allow(clippy::needless_range_loop)]
-
 use super::controller::{Controller, StepEnd};
 use super::error_norm::ErrorNorm;
 use super::exponential_operators::{
@@ -544,8 +541,8 @@ impl EtdRk4 {
         j: usize,
         stats: &mut StepStats,
     ) {
-        for i in 0..y.len() {
-            self.tmp[i] += y[i];
+        for (t, v) in self.tmp.iter_mut().zip(y) {
+            *t += v;
         }
         let mut k = std::mem::take(&mut self.n[j]);
         sys.rhs(t, &self.tmp, &mut k);
