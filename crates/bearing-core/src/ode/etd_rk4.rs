@@ -21,7 +21,9 @@
 //! (`sum b_i'(0) psi_{2,i} = 0`); that leaves one parameter free, set so that no `b_i`
 //! holds `phi_1`: derived and checked to classical order four with noncommuting `L` and
 //! Jacobian in `scripts/research/etd_thirds.py` (this project's own; its stages meet the
-//! stiff order conditions only as `L` goes to zero, as Cox and Matthews' do). It replaced
+//! stiff order conditions only as `L` goes to zero: on a stiff relaxing component, `|lambda|
+//! h` from 12 to 200, it and Cox and Matthews' both converged at about first order in an
+//! independent review's check, the thirds 4-5 times more accurately). It replaced
 //! Cox and Matthews' ETDRK4 (J. Comput. Phys. 176, 2002; not read), whose stages sit `h/2`
 //! apart, on 2026-12-01: stages `h/3` apart sample the remainder's response at twice a
 //! contact mode's frequency at least twice a period up to `omega h` = 1.5 pi (that is the
